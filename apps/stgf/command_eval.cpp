@@ -1,0 +1,51 @@
+// stgf eval --truth T --estimates E [E2 ...] [--measurements M] [--from-step K] [--json OUT]
+
+#include <cstdio>
+
+#include "commands.hpp"
+#include "stgf/io/evaluation.hpp"
+#include "stgf/io/evaluation_report.hpp"
+#include "stgf/io/output_file.hpp"
+
+namespace stgf::cli {
+namespace {
+
+struct EvalOptions {
+  std::string truth;
+  std::vector<std::string> estimates;
+  std::string measurements;
+  int from_step = 0;
+  std::string json;
+};
+
+void eval(const EvalOptions& options) {
+  const TruthFile truth = read_truth(options.truth);
+  std::vector<EstimateFile> estimates;
+  for (const std::string& path : options.estimates) estimates.push_back(read_estimates(path));
+  std::optional<MeasurementFile> measurements;
+  if (!options.measurements.empty()) measurements = read_measurements(options.measurements);
+  const Evaluation evaluation =
+      evaluate(truth, estimates, measurements ? &*measurements : nullptr, options.from_step);
+  if (!options.json.empty()) write_text_file(options.json, evaluation_json(evaluation).dump(2) + "\n");
+  std::fputs(evaluation_markdown(evaluation).c_str(), stdout);
+}
+
+}  // namespace
+
+void add_eval_command(CLI::App& app) {
+  auto options = std::make_shared<EvalOptions>();
+  CLI::App* command = app.add_subcommand(
+      "eval", "Score estimate files against the truth: DE, REL-DE, NEES, overall and by number of views.");
+  command->add_option("--truth", options->truth, "truth CSV (scene,t,object,x,y,z)")->required();
+  command->add_option("--estimates", options->estimates, "one or more estimates CSVs (one row per method in the table)")
+      ->required();
+  command->add_option("--measurements", options->measurements,
+                      "the measurements the estimates came from: fixes the scored rows, counts views, gives sensor "
+                      "positions for REL-DE");
+  command->add_option("--from-step", options->from_step, "leave out each scene's first K steps (for every method)")
+      ->check(CLI::NonNegativeNumber);
+  command->add_option("--json", options->json, "also write the results as JSON here");
+  command->callback([options] { eval(*options); });
+}
+
+}  // namespace stgf::cli

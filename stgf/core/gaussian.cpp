@@ -1,0 +1,77 @@
+#include "stgf/core/gaussian.hpp"
+
+#include <cmath>
+#include <stdexcept>
+
+#include <Eigen/Cholesky>
+#include <Eigen/Eigenvalues>
+
+namespace stgf {
+namespace {
+
+constexpr double kSymmetryTolerance = 1e-9;
+constexpr double kMaxConditionNumber = 1e12;
+
+std::string format_number(double value) {
+  char buffer[32];
+  std::snprintf(buffer, sizeof buffer, "%.6g", value);
+  return buffer;
+}
+
+// Λ = C⁻¹ by a Cholesky factorisation C = L Lᵀ; nullopt when C is not positive definite.
+std::optional<Matrix3d> inverse_by_cholesky(const Matrix3d& matrix) {
+  const Eigen::LLT<Matrix3d> cholesky(matrix);
+  if (cholesky.info() != Eigen::Success) return std::nullopt;
+  return symmetrised(cholesky.solve(Matrix3d::Identity()));
+}
+
+}  // namespace
+
+std::optional<std::string> covariance_problem(const Matrix3d& covariance) {
+  if (!covariance.allFinite()) return "covariance has a NaN or infinite entry";
+  const double scale = covariance.cwiseAbs().maxCoeff();
+  if (scale == 0.0) return "covariance is zero";
+  if ((covariance - covariance.transpose()).cwiseAbs().maxCoeff() > kSymmetryTolerance * scale) {
+    return "covariance is not symmetric";
+  }
+  Eigen::SelfAdjointEigenSolver<Matrix3d> eigen;
+  eigen.computeDirect(symmetrised(covariance), Eigen::EigenvaluesOnly);
+  const double smallest = eigen.eigenvalues()(0);
+  const double largest = eigen.eigenvalues()(2);
+  if (!(smallest > 0.0)) {
+    return "covariance is not positive definite (smallest eigenvalue " + format_number(smallest) + ")";
+  }
+  if (largest > kMaxConditionNumber * smallest) {
+    return "covariance is nearly singular (eigenvalues " + format_number(smallest) + " to " +
+           format_number(largest) + ")";
+  }
+  return std::nullopt;
+}
+
+Gaussian3 Gaussian3::from_covariance(const Vector3d& mean, const Matrix3d& covariance) {
+  if (!mean.allFinite()) throw std::invalid_argument("mean has a NaN or infinite entry");
+  if (auto problem = covariance_problem(covariance)) throw std::invalid_argument(*problem);
+  const Matrix3d symmetric = symmetrised(covariance);
+  const auto information = inverse_by_cholesky(symmetric);
+  if (!information) throw std::invalid_argument("covariance is not positive definite");
+  return Gaussian3(mean, symmetric, *information);
+}
+
+Gaussian3 Gaussian3::from_information(const Vector3d& information_vector,
+                                      const Matrix3d& information) {
+  const Matrix3d symmetric = symmetrised(information);
+  const Eigen::LLT<Matrix3d> cholesky(symmetric);
+  if (cholesky.info() != Eigen::Success || !symmetric.allFinite()) {
+    throw std::invalid_argument("information matrix is not positive definite");
+  }
+  const Vector3d mean = cholesky.solve(information_vector);
+  if (!mean.allFinite()) throw std::invalid_argument("mean has a NaN or infinite entry");
+  return Gaussian3(mean, symmetrised(cholesky.solve(Matrix3d::Identity())), symmetric);
+}
+
+double Gaussian3::mahalanobis_squared(const Vector3d& point) const {
+  const Vector3d difference = point - mean_;
+  return difference.dot(information_ * difference);
+}
+
+}  // namespace stgf

@@ -1,0 +1,182 @@
+#include "stgf/io/evaluation.hpp"
+
+#include <algorithm>
+#include <optional>
+#include <unordered_map>
+
+#include <fmt/format.h>
+
+#include "stgf/io/input_error.hpp"
+
+namespace stgf {
+namespace {
+
+// The steps of each scene: its distinct times (within 1e-6 s), sorted.
+class StepTimes {
+ public:
+  void add(const std::string& scene, double time) { times_[scene].push_back(time); }
+
+  void finish() {
+    for (auto& [scene, times] : times_) {
+      std::sort(times.begin(), times.end());
+      std::vector<double> steps;
+      for (double time : times) {
+        if (steps.empty() || time - steps.back() > kSameStepTolerance) steps.push_back(time);
+      }
+      times = std::move(steps);
+    }
+  }
+
+  std::optional<int> step_of(const std::string& scene, double time) const {
+    const auto it = times_.find(scene);
+    if (it == times_.end()) return std::nullopt;
+    const std::vector<double>& steps = it->second;
+    auto candidate = std::lower_bound(steps.begin(), steps.end(), time - kSameStepTolerance);
+    if (candidate == steps.end() || *candidate > time + kSameStepTolerance) return std::nullopt;
+    return static_cast<int>(candidate - steps.begin());
+  }
+
+ private:
+  std::unordered_map<std::string, std::vector<double>> times_;
+};
+
+struct ReferenceRow {
+  int views = 0;                         // views that saw the object at this step
+  std::optional<Vector3d> sensor;        // of the row's view
+  bool excluded = false;                 // before from_step
+  std::string description;               // for messages
+};
+
+std::string row_key(const std::string& scene, int step, const std::string& view, const std::string& object) {
+  return fmt::format("{}\n{}\n{}\n{}", scene, step, view, object);
+}
+
+// The reference rows and their step times, from the measurements or from the first method's rows.
+template <class Rows, class Describe>
+void build_reference(const Rows& rows, const Describe& describe, int from_step, StepTimes& steps,
+                     std::unordered_map<std::string, ReferenceRow>& reference, std::size_t& excluded) {
+  for (const auto& row : rows) steps.add(row.scene, row.time);
+  steps.finish();
+  std::unordered_map<std::string, int> views_of_object;
+  std::vector<std::string> keys;
+  keys.reserve(rows.size());
+  for (std::size_t k = 0; k < rows.size(); ++k) {
+    const auto& row = rows[k];
+    const int step = *steps.step_of(row.scene, row.time);
+    keys.push_back(row_key(row.scene, step, row.view, row.object));
+    ++views_of_object[fmt::format("{}\n{}\n{}", row.scene, step, row.object)];
+    ReferenceRow& entry = reference[keys.back()];
+    entry.excluded = step < from_step;
+    entry.description = describe(k);
+  }
+  for (std::size_t k = 0; k < rows.size(); ++k) {
+    const auto& row = rows[k];
+    const int step = *steps.step_of(row.scene, row.time);
+    ReferenceRow& entry = reference[keys[k]];
+    entry.views = views_of_object[fmt::format("{}\n{}\n{}", row.scene, step, row.object)];
+    if (entry.excluded) ++excluded;
+  }
+}
+
+}  // namespace
+
+Evaluation evaluate(const TruthFile& truth, const std::vector<EstimateFile>& estimates,
+                    const MeasurementFile* measurements, int from_step) {
+  if (estimates.empty()) throw std::invalid_argument("evaluate: no estimate file");
+  if (from_step < 0) throw std::invalid_argument("--from-step must be >= 0");
+  Evaluation evaluation;
+  evaluation.truth_file = truth.path;
+  evaluation.from_step = from_step;
+  const TruthIndex truth_index(truth);
+
+  // Methods by name, each from one file.
+  struct MethodRows {
+    const EstimateFile* file;
+    std::vector<std::size_t> rows;
+  };
+  std::vector<std::pair<std::string, MethodRows>> methods;
+  for (const EstimateFile& file : estimates) {
+    for (std::size_t k = 0; k < file.rows.size(); ++k) {
+      auto it = std::find_if(methods.begin(), methods.end(),
+                             [&](const auto& entry) { return entry.first == file.methods[k]; });
+      if (it == methods.end()) {
+        methods.push_back({file.methods[k], MethodRows{&file, {}}});
+        it = methods.end() - 1;
+      } else if (it->second.file != &file) {
+        throw InputError(file.path, file.lines[k],
+                         fmt::format("method '{}' already comes from {}", file.methods[k], it->second.file->path));
+      }
+      it->second.rows.push_back(k);
+    }
+  }
+  if (methods.empty()) throw InputError(estimates.front().path, 0, "no estimates");
+
+  StepTimes steps;
+  std::unordered_map<std::string, ReferenceRow> reference;
+  if (measurements != nullptr) {
+    check_truth_matches(*measurements, truth);
+    evaluation.measurements_file = measurements->path;
+    build_reference(
+        measurements->rows,
+        [&](std::size_t k) { return fmt::format("{}:{}", measurements->path, measurements->lines[k]); },
+        from_step, steps, reference, evaluation.rows_excluded);
+    for (std::size_t k = 0; k < measurements->rows.size(); ++k) {
+      const Measurement& row = measurements->rows[k];
+      reference[row_key(row.scene, *steps.step_of(row.scene, row.time), row.view, row.object)].sensor =
+          row.sensor_position;
+    }
+  } else {
+    const EstimateFile& first = *methods.front().second.file;
+    std::vector<Estimate> first_rows;
+    for (std::size_t k : methods.front().second.rows) first_rows.push_back(first.rows[k]);
+    build_reference(
+        first_rows,
+        [&](std::size_t k) {
+          return fmt::format("{}:{}", first.path, first.lines[methods.front().second.rows[k]]);
+        },
+        from_step, steps, reference, evaluation.rows_excluded);
+  }
+
+  for (const auto& [method, method_rows] : methods) {
+    const EstimateFile& file = *method_rows.file;
+    MethodScore score{method, file.path, {}, {}};
+    ErrorAccumulator overall;
+    std::map<int, ErrorAccumulator> by_views;
+    std::unordered_map<std::string, bool> seen;
+    for (std::size_t k : method_rows.rows) {
+      const Estimate& row = file.rows[k];
+      const auto fail = [&](const std::string& what) { throw InputError(file.path, file.lines[k], what); };
+      const std::optional<int> step = steps.step_of(row.scene, row.time);
+      const std::string key = step ? row_key(row.scene, *step, row.view, row.object) : std::string();
+      const auto entry = step ? reference.find(key) : reference.end();
+      if (entry == reference.end()) {
+        fail(fmt::format("estimate for scene '{}', t {}, view '{}', object '{}' has no matching {}", row.scene,
+                         row.time, row.view, row.object,
+                         measurements ? "measurement in " + measurements->path : "row in the first method"));
+      }
+      seen[key] = true;
+      const std::optional<Vector3d> truth_position = truth_index.find(row.scene, row.time, row.object);
+      if (!truth_position) {
+        fail(fmt::format("no truth for scene '{}', t {}, object '{}' in {}", row.scene, row.time, row.object,
+                         truth.path));
+      }
+      if (entry->second.excluded) continue;
+      overall.add(row.position, *truth_position, entry->second.sensor);
+      by_views[entry->second.views].add(row.position, *truth_position, entry->second.sensor);
+    }
+    if (seen.size() != reference.size()) {
+      for (const auto& [key, entry] : reference) {
+        if (!seen.count(key)) {
+          throw InputError(file.path, 0,
+                           fmt::format("method '{}' has no estimate for the row at {}", method, entry.description));
+        }
+      }
+    }
+    score.overall = overall.summary();
+    for (const auto& [views, accumulator] : by_views) score.by_views[views] = accumulator.summary();
+    evaluation.methods.push_back(std::move(score));
+  }
+  return evaluation;
+}
+
+}  // namespace stgf

@@ -1,0 +1,79 @@
+#include "stgf/io/evaluation_report.hpp"
+
+#include <cmath>
+#include <set>
+
+#include <fmt/format.h>
+
+namespace stgf {
+namespace {
+
+std::string cell(double value, int decimals) {
+  return std::isnan(value) ? std::string("–") : fmt::format("{:.{}f}", value, decimals);
+}
+
+nlohmann::json number_or_null(double value) {
+  return std::isnan(value) ? nlohmann::json(nullptr) : nlohmann::json(value);
+}
+
+nlohmann::json summary_json(const ErrorSummary& summary) {
+  return {{"rows", summary.rows},
+          {"de", number_or_null(summary.displacement_error)},
+          {"rel_de", number_or_null(summary.relative_displacement_error)},
+          {"nees_mean", number_or_null(summary.nees_mean)},
+          {"nees_share_in_95", number_or_null(summary.nees_share_in_95)}};
+}
+
+}  // namespace
+
+std::string evaluation_markdown(const Evaluation& evaluation) {
+  std::string text;
+  text += "| method | rows | DE (m) | REL-DE | NEES mean | NEES in 95% |\n";
+  text += "|---|---:|---:|---:|---:|---:|\n";
+  std::set<int> views;
+  for (const MethodScore& score : evaluation.methods) {
+    const ErrorSummary& s = score.overall;
+    text += fmt::format("| {} | {} | {} | {} | {} | {} |\n", score.method, s.rows, cell(s.displacement_error, 4),
+                        cell(s.relative_displacement_error, 4), cell(s.nees_mean, 2),
+                        cell(s.nees_share_in_95, 3));
+    for (const auto& [count, summary] : score.by_views) views.insert(count);
+  }
+  if (views.empty()) return text;
+  text += "\nDE (m) by number of views that saw the object:\n\n| method |";
+  std::string rule = "|---|";
+  for (int count : views) {
+    text += fmt::format(" n={} |", count);
+    rule += "---:|";
+  }
+  text += "\n" + rule + "\n";
+  for (const MethodScore& score : evaluation.methods) {
+    text += "| " + score.method + " |";
+    for (int count : views) {
+      const auto it = score.by_views.find(count);
+      text += " " + (it == score.by_views.end() ? std::string("–") : cell(it->second.displacement_error, 4)) + " |";
+    }
+    text += "\n";
+  }
+  return text;
+}
+
+nlohmann::json evaluation_json(const Evaluation& evaluation) {
+  nlohmann::json methods = nlohmann::json::array();
+  for (const MethodScore& score : evaluation.methods) {
+    nlohmann::json by_views = nlohmann::json::object();
+    for (const auto& [count, summary] : score.by_views) by_views[std::to_string(count)] = summary_json(summary);
+    methods.push_back({{"method", score.method},
+                       {"estimates", score.file},
+                       {"overall", summary_json(score.overall)},
+                       {"by_views", by_views}});
+  }
+  return {{"truth", evaluation.truth_file},
+          {"measurements", evaluation.measurements_file.empty() ? nlohmann::json(nullptr)
+                                                                 : nlohmann::json(evaluation.measurements_file)},
+          {"from_step", evaluation.from_step},
+          {"rows_excluded_before_from_step", evaluation.rows_excluded},
+          {"nees_interval_95", {kChiSquare3Lower95, kChiSquare3Upper95}},
+          {"methods", methods}};
+}
+
+}  // namespace stgf

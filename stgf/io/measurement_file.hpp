@@ -1,0 +1,38 @@
+#pragma once
+// The measurements file (DESIGN §3):
+//   scene,t,view,object,x,y,z,cov_xx,cov_xy,cov_xz,cov_yy,cov_yz,cov_zz[,sensor_x,sensor_y,sensor_z]
+// One row per measurement. The sensor columns are optional as a group (all three or none); when
+// present every row must fill them.
+//
+// Reading rejects, with "FILE:LINE: reason": a missing column, a non-numeric field, NaN or
+// infinity, an empty scene/view/object, a covariance that is not symmetric positive definite, and a
+// second row for the same (scene, t ± 1e-6 s, view, object).
+
+#include <span>
+#include <string>
+#include <vector>
+
+#include "stgf/core/records.hpp"
+
+namespace stgf {
+
+struct MeasurementFile {
+  std::string path;                   // as given by the user
+  std::vector<Measurement> rows;      // in file order
+  std::vector<int> lines;             // line of each row
+  bool has_sensor_positions = false;  // the sensor_x/y/z columns are present
+};
+
+MeasurementFile read_measurements(const std::string& path);
+MeasurementFile parse_measurements(const std::string& path, std::string_view text);
+
+// Writes the rows (with the sensor columns when every row has a sensor position).
+void write_measurements(const std::string& path, std::span<const Measurement> rows);
+
+// Formatting shared by the writers: times with microsecond resolution, positions with 12
+// significant digits (sub-micrometre at a kilometre), covariances with 9.
+std::string format_time(double seconds);
+std::string format_position(double metres);
+std::string format_covariance_entry(double value);
+
+}  // namespace stgf

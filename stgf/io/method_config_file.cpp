@@ -1,0 +1,80 @@
+#include "stgf/io/method_config_file.hpp"
+
+#include <cmath>
+#include <fstream>
+#include <sstream>
+
+#include <yaml-cpp/yaml.h>
+
+#include "stgf/io/input_error.hpp"
+
+namespace stgf {
+namespace {
+
+// YAML marks count lines from 0.
+int line_of(const YAML::Node& node) { return node.Mark().line + 1; }
+
+double positive_number(const std::string& path, const std::string& key, const YAML::Node& node) {
+  double value = 0.0;
+  try {
+    value = node.as<double>();
+  } catch (const YAML::Exception&) {
+    throw InputError(path, line_of(node), key + " must be a number");
+  }
+  if (!std::isfinite(value) || value <= 0.0) {
+    throw InputError(path, line_of(node), key + " must be a finite number > 0");
+  }
+  return value;
+}
+
+void read_mmt(const std::string& path, const YAML::Node& node, ConstantVelocityModel& model) {
+  if (!node.IsMap()) throw InputError(path, line_of(node), "mmt must be a mapping of settings");
+  for (const auto& entry : node) {
+    const std::string key = entry.first.as<std::string>();
+    const std::string name = "mmt." + key;
+    if (key == "initial_position_variance") {
+      model.initial_position_variance = positive_number(path, name, entry.second);
+    } else if (key == "initial_velocity_variance") {
+      model.initial_velocity_variance = positive_number(path, name, entry.second);
+    } else if (key == "position_noise_density") {
+      model.position_noise_density = positive_number(path, name, entry.second);
+    } else if (key == "velocity_noise_density") {
+      model.velocity_noise_density = positive_number(path, name, entry.second);
+    } else {
+      throw InputError(path, line_of(entry.first), "unknown setting '" + name + "'");
+    }
+  }
+}
+
+}  // namespace
+
+MethodConfig parse_method_config(const std::string& path, const std::string& text) {
+  YAML::Node root;
+  try {
+    root = YAML::Load(text);
+  } catch (const YAML::ParserException& error) {
+    throw InputError(path, error.mark.line + 1, "not valid YAML: " + error.msg);
+  }
+  MethodConfig config;
+  if (root.IsNull()) return config;
+  if (!root.IsMap()) throw InputError(path, line_of(root), "expected a mapping of method names to settings");
+  for (const auto& entry : root) {
+    const std::string method = entry.first.as<std::string>();
+    if (method == "mmt") {
+      read_mmt(path, entry.second, config.mmt);
+    } else {
+      throw InputError(path, line_of(entry.first), "unknown section '" + method + "' (known: mmt)");
+    }
+  }
+  return config;
+}
+
+MethodConfig read_method_config(const std::string& path) {
+  std::ifstream file(path);
+  if (!file) throw InputError(path, 0, "cannot open the file");
+  std::ostringstream text;
+  text << file.rdbuf();
+  return parse_method_config(path, text.str());
+}
+
+}  // namespace stgf

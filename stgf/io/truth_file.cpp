@@ -1,0 +1,113 @@
+#include "stgf/io/truth_file.hpp"
+
+#include <algorithm>
+
+#include <fmt/format.h>
+
+#include "stgf/io/csv_table.hpp"
+#include "stgf/io/input_error.hpp"
+#include "stgf/io/measurement_file.hpp"
+#include "stgf/io/output_file.hpp"
+#include "stgf/io/record_columns.hpp"
+
+namespace stgf {
+namespace {
+
+TruthFile truth_from_table(const CsvTable& table) {
+  const detail::KeyColumns keys = detail::require_key_columns(table, /*with_view=*/false);
+  int position[3];
+  detail::require_position_columns(table, position);
+  TruthFile file;
+  file.path = table.path();
+  file.rows.reserve(table.rows().size());
+  for (const CsvTable::Row& row : table.rows()) {
+    file.rows.push_back(TruthPoint{table.text(row, keys.scene), table.number(row, keys.time),
+                                   table.text(row, keys.object), table.vector3(row, position)});
+    file.lines.push_back(row.line);
+  }
+  const auto& rows = file.rows;
+  detail::check_no_duplicate_rows(
+      file.path, rows.size(), [&](std::size_t k) { return rows[k].scene + '\n' + rows[k].object; },
+      [&](std::size_t k) { return rows[k].time; }, [&](std::size_t k) { return file.lines[k]; },
+      [&](std::size_t k) {
+        return fmt::format("scene '{}', t {}, object '{}'", rows[k].scene, rows[k].time, rows[k].object);
+      });
+  return file;
+}
+
+std::string scene_object_key(std::string_view scene, std::string_view object) {
+  std::string key(scene);
+  key += '\n';
+  key += object;
+  return key;
+}
+
+}  // namespace
+
+TruthFile read_truth(const std::string& path) { return truth_from_table(CsvTable::read(path)); }
+
+TruthFile parse_truth(const std::string& path, std::string_view text) {
+  return truth_from_table(CsvTable::parse(path, text));
+}
+
+void write_truth(const std::string& path, std::span<const TruthPoint> rows) {
+  OutputFile file(path);
+  std::ofstream& out = file.stream();
+  out << "scene,t,object,x,y,z\n";
+  for (const TruthPoint& row : rows) {
+    out << detail::csv_field(row.scene) << ',' << format_time(row.time) << ','
+        << detail::csv_field(row.object) << ',' << format_position(row.position.x()) << ','
+        << format_position(row.position.y()) << ',' << format_position(row.position.z()) << '\n';
+  }
+  file.commit();
+}
+
+TruthIndex::TruthIndex(const TruthFile& truth) {
+  for (const TruthPoint& point : truth.rows) {
+    samples_[scene_object_key(point.scene, point.object)].push_back(Sample{point.time, point.position});
+    ++scenes_[point.scene];
+  }
+  for (auto& [key, samples] : samples_) {
+    std::sort(samples.begin(), samples.end(),
+              [](const Sample& a, const Sample& b) { return a.time < b.time; });
+  }
+}
+
+std::optional<Vector3d> TruthIndex::find(std::string_view scene, double time,
+                                         std::string_view object) const {
+  const auto it = samples_.find(scene_object_key(scene, object));
+  if (it == samples_.end()) return std::nullopt;
+  const std::vector<Sample>& samples = it->second;
+  const auto candidate = std::lower_bound(
+      samples.begin(), samples.end(), time - kSameStepTolerance,
+      [](const Sample& sample, double value) { return sample.time < value; });
+  if (candidate == samples.end() || candidate->time > time + kSameStepTolerance) return std::nullopt;
+  return candidate->position;
+}
+
+bool TruthIndex::has_scene(std::string_view scene) const {
+  return scenes_.find(std::string(scene)) != scenes_.end();
+}
+
+void check_truth_matches(const MeasurementFile& measurements, const TruthFile& truth) {
+  const TruthIndex index(truth);
+  std::unordered_map<std::string, int> measured_scenes;
+  for (std::size_t k = 0; k < measurements.rows.size(); ++k) {
+    const Measurement& row = measurements.rows[k];
+    if (!index.find(row.scene, row.time, row.object)) {
+      throw InputError(measurements.path, measurements.lines[k],
+                       fmt::format("no truth for scene '{}', t {}, object '{}' in {}", row.scene,
+                                   row.time, row.object, truth.path));
+    }
+    ++measured_scenes[row.scene];
+  }
+  for (std::size_t k = 0; k < truth.rows.size(); ++k) {
+    if (measured_scenes.find(truth.rows[k].scene) == measured_scenes.end()) {
+      throw InputError(truth.path, truth.lines[k],
+                       fmt::format("scene '{}' has no measurements in {}", truth.rows[k].scene,
+                                   measurements.path));
+    }
+  }
+}
+
+}  // namespace stgf

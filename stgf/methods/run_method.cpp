@@ -1,0 +1,32 @@
+#include "stgf/methods/run_method.hpp"
+
+#include <optional>
+#include <stdexcept>
+
+#include "stgf/core/steps.hpp"
+
+namespace stgf {
+
+std::vector<Gaussian3> run_method(const std::string& name, const MethodConfig& config,
+                                  std::span<const Measurement> measurements) {
+  std::vector<std::optional<Gaussian3>> estimates(measurements.size());
+  std::vector<const Measurement*> step_measurements;
+  for (const Scene& scene : group_into_scenes(measurements)) {
+    const std::unique_ptr<Localizer> localizer = make_localizer(name, config);
+    for (const Step& step : scene.steps) {
+      step_measurements.clear();
+      for (std::size_t row : step.rows) step_measurements.push_back(&measurements[row]);
+      std::vector<Gaussian3> step_estimates = localizer->step(step.time, step_measurements);
+      if (step_estimates.size() != step.rows.size()) {
+        throw std::logic_error("method '" + name + "' returned the wrong number of estimates");
+      }
+      for (std::size_t k = 0; k < step.rows.size(); ++k) estimates[step.rows[k]] = step_estimates[k];
+    }
+  }
+  std::vector<Gaussian3> result;
+  result.reserve(estimates.size());
+  for (const auto& estimate : estimates) result.push_back(*estimate);
+  return result;
+}
+
+}  // namespace stgf
