@@ -1,0 +1,513 @@
+#include "stgf/datasets/synthetic.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+#include <string_view>
+
+#include <fmt/format.h>
+
+#include "stgf/datasets/random.hpp"
+
+// Keep a·b + c as two rounded operations on every compiler, so that files are byte-identical on
+// machines with and without FMA (GCC in ISO C++ mode does not contract by default). For the same
+// reason the arithmetic below spells out its dot products and matrix products instead of leaving
+// the order of summation to vectorised library code.
+#if defined(__clang__)
+#pragma STDC FP_CONTRACT OFF
+#endif
+
+namespace stgf {
+namespace {
+
+constexpr double kTwoPi = 2.0 * portable::kPi;
+
+// ── Checking the options ──
+
+class OptionChecker {
+ public:
+  void whole(std::string_view name, int value, int minimum) const {
+    if (value < minimum) {
+      throw std::invalid_argument(
+          fmt::format("synthetic benchmark: {} must be at least {} (got {})", name, minimum, value));
+    }
+  }
+  // `holds` is the rule evaluated on the value; NaN and infinity always fail.
+  void real(std::string_view name, double value, bool holds, std::string_view rule) const {
+    if (!std::isfinite(value) || !holds) {
+      throw std::invalid_argument(fmt::format("synthetic benchmark: {} must be {} (got {})", name, rule, value));
+    }
+  }
+  void positive(std::string_view name, double value) const { real(name, value, value > 0.0, "positive"); }
+  void not_negative(std::string_view name, double value) const {
+    real(name, value, value >= 0.0, "zero or positive");
+  }
+  void range(std::string_view low_name, double low, std::string_view high_name, double high) const {
+    if (!(low <= high)) {
+      throw std::invalid_argument(fmt::format("synthetic benchmark: {} ({}) must not exceed {} ({})", low_name,
+                                              low, high_name, high));
+    }
+  }
+};
+
+// ── Small deterministic vector arithmetic (sums in a fixed order) ──
+
+struct Planar {
+  double x = 0.0;
+  double y = 0.0;
+};
+Planar operator+(Planar a, Planar b) { return {a.x + b.x, a.y + b.y}; }
+Planar operator-(Planar a, Planar b) { return {a.x - b.x, a.y - b.y}; }
+Planar operator*(double k, Planar a) { return {k * a.x, k * a.y}; }
+double dot(Planar a, Planar b) { return a.x * b.x + a.y * b.y; }
+double cross(Planar a, Planar b) { return a.x * b.y - a.y * b.x; }
+double length(Planar a) { return std::sqrt(dot(a, a)); }
+
+double dot3(const Vector3d& a, const Vector3d& b) { return a.x() * b.x() + a.y() * b.y() + a.z() * b.z(); }
+
+Planar rotated(Planar vector, double radians) {
+  const portable::SineCosine turn = portable::sin_cos(radians);
+  return {turn.cosine * vector.x - turn.sine * vector.y, turn.sine * vector.x + turn.cosine * vector.y};
+}
+
+// A uniformly random unit vector: a point uniform in the unit disc, normalised.
+Planar random_direction(RandomStream& random) {
+  while (true) {
+    const Planar point{random.uniform(-1.0, 1.0), random.uniform(-1.0, 1.0)};
+    const double squared = dot(point, point);
+    if (squared > 1e-12 && squared < 1.0) return (1.0 / std::sqrt(squared)) * point;
+  }
+}
+
+double sign_of(double value) { return value >= 0.0 ? 1.0 : -1.0; }
+
+// steer(h, d): how hard and which way to turn h toward direction d (see the header comment).
+double steer_toward(Planar heading, Planar direction) {
+  const double side = cross(heading, direction);
+  return dot(heading, direction) >= 0.0 ? side : sign_of(side);
+}
+
+// ── Motion ──
+
+struct Walker {
+  Planar position;
+  Planar velocity;
+  Planar heading;  // intended direction of travel, unit length
+  double turn_rate = 0.0;
+  double preferred_speed = 0.0;
+  double stop_remaining_s = 0.0;  // > 0 while stopped
+};
+
+class SceneMotion {
+ public:
+  SceneMotion(const SyntheticOptions& options, RandomStream random) : options_(options), random_(std::move(random)) {
+    const double period = 1.0 / options.rate_hz;
+    substeps_ = std::max(1, static_cast<int>(std::ceil(period / options.max_substep_s - 1e-9)));
+    substep_ = period / substeps_;
+    turn_rate_memory_ = portable::exp(-substep_ / options.turn_rate_correlation_s);
+    turn_rate_innovation_ =
+        options.turn_rate_std_rad_s * std::sqrt(1.0 - turn_rate_memory_ * turn_rate_memory_);
+    stop_probability_ = 1.0 - portable::exp(-options.stop_rate_per_s * substep_);
+    place_walkers();
+  }
+
+  // Positions of every object at every step: [step][object].
+  std::vector<std::vector<Planar>> run() {
+    std::vector<std::vector<Planar>> positions;
+    positions.reserve(static_cast<std::size_t>(options_.steps));
+    for (int step = 0; step < options_.steps; ++step) {
+      if (step > 0) {
+        for (int substep = 0; substep < substeps_; ++substep) advance();
+      }
+      std::vector<Planar> frame;
+      frame.reserve(walkers_.size());
+      for (const Walker& walker : walkers_) frame.push_back(walker.position);
+      positions.push_back(std::move(frame));
+    }
+    return positions;
+  }
+
+ private:
+  void place_walkers() {
+    const double inner = options_.area_half_width_m - options_.boundary_margin_m;
+    constexpr int kPlacementAttempts = 200;
+    for (int index = 0; index < options_.objects; ++index) {
+      Walker walker;
+      for (int attempt = 0; attempt < kPlacementAttempts; ++attempt) {
+        walker.position = {random_.uniform(-inner, inner), random_.uniform(-inner, inner)};
+        if (clear_of_others(walker.position)) break;
+      }
+      walker.heading = random_direction(random_);
+      walker.preferred_speed = random_.uniform(options_.min_speed_m_s, options_.max_speed_m_s);
+      walker.velocity = walker.preferred_speed * walker.heading;
+      walker.turn_rate = random_.normal(0.0, options_.turn_rate_std_rad_s);
+      walkers_.push_back(walker);
+    }
+  }
+
+  bool clear_of_others(Planar position) const {
+    return std::all_of(walkers_.begin(), walkers_.end(), [&](const Walker& other) {
+      return length(other.position - position) >= options_.avoidance_radius_m;
+    });
+  }
+
+  // One substep for every object: headings and velocities from the positions at the start of the
+  // substep, then all positions.
+  void advance() {
+    const double dt = substep_;
+    for (std::size_t index = 0; index < walkers_.size(); ++index) {
+      Walker& walker = walkers_[index];
+      update_stop(walker, dt);
+      walker.turn_rate = turn_rate_memory_ * walker.turn_rate + turn_rate_innovation_ * random_.normal();
+
+      Avoidance avoidance;
+      for (std::size_t other_index = 0; other_index < walkers_.size(); ++other_index) {
+        if (other_index == index) continue;
+        add_avoidance(walker, walkers_[other_index], index < other_index, avoidance);
+      }
+      const double turn = walker.turn_rate + boundary_turn(walker) + avoidance.turn_rate;
+      walker.heading = rotated(walker.heading, turn * dt);
+      walker.heading = (1.0 / length(walker.heading)) * walker.heading;  // keep it unit despite rounding
+
+      const double walking_speed =
+          walker.stop_remaining_s > 0.0 ? 0.0 : walker.preferred_speed * (1.0 - avoidance.braking);
+      const Planar desired = walking_speed * walker.heading + avoidance.sidestep;
+      const Planar change = desired - walker.velocity;
+      const double change_length = length(change);
+      const double largest_change = options_.max_acceleration_m_s2 * dt;
+      walker.velocity = change_length <= largest_change
+                            ? desired
+                            : walker.velocity + (largest_change / change_length) * change;
+    }
+    for (Walker& walker : walkers_) walker.position = walker.position + dt * walker.velocity;
+  }
+
+  void update_stop(Walker& walker, double dt) {
+    if (walker.stop_remaining_s > 0.0) {
+      walker.stop_remaining_s = std::max(0.0, walker.stop_remaining_s - dt);
+    } else if (random_.bernoulli(stop_probability_)) {
+      walker.stop_remaining_s = random_.uniform(options_.min_stop_s, options_.max_stop_s);
+    }
+  }
+
+  // ω_b: turn toward the centre inside the margin band along the edge.
+  double boundary_turn(const Walker& walker) const {
+    const double inner = options_.area_half_width_m - options_.boundary_margin_m;
+    const double outside = std::max(std::abs(walker.position.x), std::abs(walker.position.y)) - inner;
+    if (outside <= 0.0) return 0.0;
+    const double depth = std::min(1.0, outside / options_.boundary_margin_m);
+    const double distance_to_centre = length(walker.position);
+    const Planar toward_centre = (-1.0 / distance_to_centre) * walker.position;
+    return options_.boundary_turn_rate_rad_s * depth * steer_toward(walker.heading, toward_centre);
+  }
+
+  // What the neighbours within the avoidance radius ask of one object (see the header comment).
+  struct Avoidance {
+    double turn_rate = 0.0;  // ω_a
+    double braking = 0.0;    // β ∈ [0, 1]
+    Planar sidestep;         // u_a
+  };
+
+  // Adds one neighbour's share of ω_a, β and u_a. Two objects at exactly the same place step apart
+  // along x, the lower index toward −x.
+  void add_avoidance(const Walker& walker, const Walker& other, bool lower_index, Avoidance& avoidance) const {
+    const double radius = options_.avoidance_radius_m;
+    if (radius <= 0.0) return;
+    const Planar offset = other.position - walker.position;
+    const double distance = length(offset);
+    if (distance >= radius) return;
+    const double closeness = 1.0 - distance / radius;
+    const Planar toward_other =
+        distance > 1e-9 ? (1.0 / distance) * offset : Planar{lower_index ? 1.0 : -1.0, 0.0};
+    const double ahead = dot(walker.heading, toward_other);
+    if (ahead > 0.0) {
+      avoidance.turn_rate -=
+          options_.avoidance_turn_rate_rad_s * closeness * sign_of(cross(walker.heading, toward_other));
+      avoidance.braking = std::max(avoidance.braking, closeness * ahead);
+    }
+    avoidance.sidestep = avoidance.sidestep - (options_.avoidance_speed_m_s * closeness) * toward_other;
+  }
+
+  const SyntheticOptions& options_;
+  RandomStream random_;
+  int substeps_ = 1;
+  double substep_ = 0.0;
+  double turn_rate_memory_ = 0.0;      // φ
+  double turn_rate_innovation_ = 0.0;  // σ_ω √(1 − φ²)
+  double stop_probability_ = 0.0;      // per substep
+  std::vector<Walker> walkers_;
+};
+
+// ── Measurements ──
+
+std::string scene_name(std::string_view split, int index) {
+  return fmt::format("synthetic-{}-{:04d}", split, index);
+}
+
+BenchmarkSplit make_split(const SyntheticOptions& options, std::span<const SyntheticView> views,
+                          const RandomStream& root, std::string_view split_name) {
+  BenchmarkSplit split;
+  const RandomStream split_random = root.child(split_name);
+  std::vector<std::string> object_ids;
+  for (int object = 0; object < options.objects; ++object) object_ids.push_back(fmt::format("o{}", object));
+
+  for (int scene_index = 0; scene_index < options.scenes; ++scene_index) {
+    const std::string scene = scene_name(split_name, scene_index);
+    const RandomStream scene_random = split_random.child(static_cast<std::uint64_t>(scene_index));
+    const std::vector<std::vector<Planar>> positions = SceneMotion(options, scene_random.child("motion")).run();
+
+    std::vector<RandomStream> sensing;
+    const RandomStream sensing_root = scene_random.child("sensing");
+    for (std::size_t view = 0; view < views.size(); ++view) sensing.push_back(sensing_root.child(view));
+
+    for (int step = 0; step < options.steps; ++step) {
+      const double time = static_cast<double>(step) / options.rate_hz;
+      const std::vector<Planar>& frame = positions[static_cast<std::size_t>(step)];
+      for (int object = 0; object < options.objects; ++object) {
+        const Planar ground = frame[static_cast<std::size_t>(object)];
+        split.truth.push_back({scene, time, object_ids[static_cast<std::size_t>(object)], Vector3d(ground.x, ground.y, 0.0)});
+      }
+      for (std::size_t view = 0; view < views.size(); ++view) {
+        RandomStream& random = sensing[view];
+        for (int object = 0; object < options.objects; ++object) {
+          const Planar ground = frame[static_cast<std::size_t>(object)];
+          const Vector3d target(ground.x, ground.y, 0.0);
+          const LineOfSightNoise noise = line_of_sight_noise(options, views[view], target);
+          if (!random.bernoulli(detection_probability(options, noise.range))) continue;
+          const Vector3d standard_normal(random.normal(), random.normal(), random.normal());
+          const Matrix3d root_of_covariance = noise.square_root();
+          Vector3d measured;
+          for (int row = 0; row < 3; ++row) {
+            measured(row) = target(row) + (root_of_covariance(row, 0) * standard_normal(0) +
+                                           root_of_covariance(row, 1) * standard_normal(1) +
+                                           root_of_covariance(row, 2) * standard_normal(2));
+          }
+          split.measurements.push_back({scene, time, views[view].id, object_ids[static_cast<std::size_t>(object)],
+                                        Gaussian3::from_covariance(measured, noise.covariance()),
+                                        views[view].sensor_position});
+        }
+      }
+    }
+  }
+  return split;
+}
+
+nlohmann::json options_json(const SyntheticOptions& options) {
+  return {
+      {"seed", options.seed},
+      {"objects", options.objects},
+      {"views", options.views},
+      {"steps", options.steps},
+      {"scenes", options.scenes},
+      {"rate_hz", options.rate_hz},
+      {"area_half_width_m", options.area_half_width_m},
+      {"boundary_margin_m", options.boundary_margin_m},
+      {"boundary_turn_rate_rad_s", options.boundary_turn_rate_rad_s},
+      {"min_speed_m_s", options.min_speed_m_s},
+      {"max_speed_m_s", options.max_speed_m_s},
+      {"max_acceleration_m_s2", options.max_acceleration_m_s2},
+      {"turn_rate_std_rad_s", options.turn_rate_std_rad_s},
+      {"turn_rate_correlation_s", options.turn_rate_correlation_s},
+      {"stop_rate_per_s", options.stop_rate_per_s},
+      {"min_stop_s", options.min_stop_s},
+      {"max_stop_s", options.max_stop_s},
+      {"avoidance_radius_m", options.avoidance_radius_m},
+      {"avoidance_turn_rate_rad_s", options.avoidance_turn_rate_rad_s},
+      {"avoidance_speed_m_s", options.avoidance_speed_m_s},
+      {"max_substep_s", options.max_substep_s},
+      {"view_ring_radius_m", options.view_ring_radius_m},
+      {"view_ring_jitter_m", options.view_ring_jitter_m},
+      {"view_angle_jitter_rad", options.view_angle_jitter_rad},
+      {"min_sensor_height_m", options.min_sensor_height_m},
+      {"max_sensor_height_m", options.max_sensor_height_m},
+      {"min_noise_scale", options.min_noise_scale},
+      {"max_noise_scale", options.max_noise_scale},
+      {"range_noise_m", options.range_noise_m},
+      {"range_noise_per_m2", options.range_noise_per_m2},
+      {"cross_noise_m", options.cross_noise_m},
+      {"cross_noise_per_m", options.cross_noise_per_m},
+      {"vertical_noise_m", options.vertical_noise_m},
+      {"vertical_noise_per_m", options.vertical_noise_per_m},
+      {"max_range_m", options.max_range_m},
+      {"detection_probability_near", options.detection_probability_near},
+      {"detection_probability_far", options.detection_probability_far},
+  };
+}
+
+}  // namespace
+
+void validate_synthetic_options(const SyntheticOptions& options) {
+  const OptionChecker check;
+  check.whole("objects", options.objects, 1);
+  check.whole("views", options.views, 1);
+  check.whole("steps", options.steps, 2);
+  check.whole("scenes", options.scenes, 1);
+  check.positive("rate_hz", options.rate_hz);
+
+  check.positive("area_half_width_m", options.area_half_width_m);
+  check.real("boundary_margin_m", options.boundary_margin_m,
+             options.boundary_margin_m > 0.0 && options.boundary_margin_m < options.area_half_width_m,
+             "positive and less than area_half_width_m");
+  check.not_negative("boundary_turn_rate_rad_s", options.boundary_turn_rate_rad_s);
+  check.not_negative("min_speed_m_s", options.min_speed_m_s);
+  check.not_negative("max_speed_m_s", options.max_speed_m_s);
+  check.range("min_speed_m_s", options.min_speed_m_s, "max_speed_m_s", options.max_speed_m_s);
+  check.positive("max_acceleration_m_s2", options.max_acceleration_m_s2);
+  check.not_negative("turn_rate_std_rad_s", options.turn_rate_std_rad_s);
+  check.positive("turn_rate_correlation_s", options.turn_rate_correlation_s);
+  check.not_negative("stop_rate_per_s", options.stop_rate_per_s);
+  check.not_negative("min_stop_s", options.min_stop_s);
+  check.not_negative("max_stop_s", options.max_stop_s);
+  check.range("min_stop_s", options.min_stop_s, "max_stop_s", options.max_stop_s);
+  check.not_negative("avoidance_radius_m", options.avoidance_radius_m);
+  check.not_negative("avoidance_turn_rate_rad_s", options.avoidance_turn_rate_rad_s);
+  check.not_negative("avoidance_speed_m_s", options.avoidance_speed_m_s);
+  check.positive("max_substep_s", options.max_substep_s);
+
+  check.positive("view_ring_radius_m", options.view_ring_radius_m);
+  check.real("view_ring_jitter_m", options.view_ring_jitter_m,
+             options.view_ring_jitter_m >= 0.0 && options.view_ring_jitter_m < options.view_ring_radius_m,
+             "zero or positive and less than view_ring_radius_m");
+  check.not_negative("view_angle_jitter_rad", options.view_angle_jitter_rad);
+  check.not_negative("min_sensor_height_m", options.min_sensor_height_m);
+  check.not_negative("max_sensor_height_m", options.max_sensor_height_m);
+  check.range("min_sensor_height_m", options.min_sensor_height_m, "max_sensor_height_m", options.max_sensor_height_m);
+  check.positive("min_noise_scale", options.min_noise_scale);
+  check.positive("max_noise_scale", options.max_noise_scale);
+  check.range("min_noise_scale", options.min_noise_scale, "max_noise_scale", options.max_noise_scale);
+
+  check.positive("range_noise_m", options.range_noise_m);
+  check.not_negative("range_noise_per_m2", options.range_noise_per_m2);
+  check.positive("cross_noise_m", options.cross_noise_m);
+  check.not_negative("cross_noise_per_m", options.cross_noise_per_m);
+  check.positive("vertical_noise_m", options.vertical_noise_m);
+  check.not_negative("vertical_noise_per_m", options.vertical_noise_per_m);
+
+  check.positive("max_range_m", options.max_range_m);
+  const auto is_probability = [](double p) { return p >= 0.0 && p <= 1.0; };
+  check.real("detection_probability_near", options.detection_probability_near,
+             is_probability(options.detection_probability_near), "a probability in [0, 1]");
+  check.real("detection_probability_far", options.detection_probability_far,
+             is_probability(options.detection_probability_far), "a probability in [0, 1]");
+  check.range("detection_probability_far", options.detection_probability_far, "detection_probability_near",
+              options.detection_probability_near);
+}
+
+std::vector<SyntheticView> place_synthetic_views(const SyntheticOptions& options) {
+  validate_synthetic_options(options);
+  RandomStream random = RandomStream(options.seed).child("views");
+  const double first_angle = random.uniform(0.0, kTwoPi);
+  std::vector<SyntheticView> views;
+  for (int index = 0; index < options.views; ++index) {
+    const double angle = first_angle + kTwoPi * index / options.views +
+                         random.uniform(-options.view_angle_jitter_rad, options.view_angle_jitter_rad);
+    const double radius =
+        options.view_ring_radius_m + random.uniform(-options.view_ring_jitter_m, options.view_ring_jitter_m);
+    const double height = random.uniform(options.min_sensor_height_m, options.max_sensor_height_m);
+    const double noise_scale = random.uniform(options.min_noise_scale, options.max_noise_scale);
+    const portable::SineCosine direction = portable::sin_cos(angle);
+    views.push_back({fmt::format("v{}", index),
+                     Vector3d(radius * direction.cosine, radius * direction.sine, height), noise_scale});
+  }
+  return views;
+}
+
+Matrix3d LineOfSightNoise::covariance() const {
+  Matrix3d covariance;
+  for (int row = 0; row < 3; ++row) {
+    for (int column = 0; column < 3; ++column) {
+      double sum = 0.0;
+      for (int axis = 0; axis < 3; ++axis) {
+        const double variance = standard_deviations(axis) * standard_deviations(axis);
+        sum += variance * (basis(row, axis) * basis(column, axis));  // symmetric in (row, column) bit for bit
+      }
+      covariance(row, column) = sum;
+    }
+  }
+  return covariance;
+}
+
+Matrix3d LineOfSightNoise::square_root() const {
+  Matrix3d root;
+  for (int row = 0; row < 3; ++row) {
+    for (int axis = 0; axis < 3; ++axis) root(row, axis) = basis(row, axis) * standard_deviations(axis);
+  }
+  return root;
+}
+
+LineOfSightNoise line_of_sight_noise(const SyntheticOptions& options, const SyntheticView& view,
+                                     const Vector3d& target) {
+  const Vector3d offset = target - view.sensor_position;
+  const double range = std::sqrt(dot3(offset, offset));
+  LineOfSightNoise noise;
+  noise.range = range;
+
+  // u_r; straight down when the object is at the sensor itself (then any basis will do).
+  const Vector3d along = range > 0.0 ? Vector3d(offset / range) : Vector3d(0.0, 0.0, -1.0);
+  const double horizontal = std::sqrt(along.x() * along.x() + along.y() * along.y());
+  // u_c horizontal and across; along x when the line of sight is vertical.
+  const Vector3d across =
+      horizontal > 1e-12 ? Vector3d(-along.y() / horizontal, along.x() / horizontal, 0.0) : Vector3d(1.0, 0.0, 0.0);
+  const Vector3d vertical(along.y() * across.z() - along.z() * across.y(),
+                          along.z() * across.x() - along.x() * across.z(),
+                          along.x() * across.y() - along.y() * across.x());  // u_r × u_c
+  noise.basis.col(0) = along;
+  noise.basis.col(1) = across;
+  noise.basis.col(2) = vertical;
+
+  const double scale = view.noise_scale;
+  noise.standard_deviations = Vector3d(scale * (options.range_noise_m + options.range_noise_per_m2 * (range * range)),
+                                       scale * (options.cross_noise_m + options.cross_noise_per_m * range),
+                                       scale * (options.vertical_noise_m + options.vertical_noise_per_m * range));
+  return noise;
+}
+
+double detection_probability(const SyntheticOptions& options, double range_m) {
+  if (!(range_m <= options.max_range_m)) return 0.0;
+  const double fraction = range_m / options.max_range_m;
+  return options.detection_probability_near -
+         (options.detection_probability_near - options.detection_probability_far) * (fraction * fraction);
+}
+
+nlohmann::json describe_synthetic_benchmark(const SyntheticOptions& options, std::span<const SyntheticView> views) {
+  nlohmann::json view_list = nlohmann::json::array();
+  for (const SyntheticView& view : views) {
+    view_list.push_back({{"id", view.id},
+                         {"sensor_position", {view.sensor_position.x(), view.sensor_position.y(),
+                                              view.sensor_position.z()}},
+                         {"noise_scale", view.noise_scale}});
+  }
+  return {
+      {"source", "synthetic"},
+      {"seed", options.seed},
+      {"options", options_json(options)},
+      {"views", view_list},
+      {"motion_model",
+       "ground-plane walkers, substeps of at most max_substep_s: Ornstein-Uhlenbeck turn rate "
+       "(turn_rate_std_rad_s, turn_rate_correlation_s), random stops (stop_rate_per_s, "
+       "uniform [min_stop_s, max_stop_s]), avoiding objects within "
+       "avoidance_radius_m (turning, braking, sidestepping), turning back within boundary_margin_m of the square [-w, w]^2, velocity "
+       "following the intended one with at most max_acceleration_m_s2; truth z = 0"},
+      {"noise_model",
+       "z = p + U diag(sigma) xi, xi ~ N(0, I), R = U diag(sigma^2) U^T with U = [range, horizontal "
+       "across, vertical across] line-of-sight axes from the view's sensor; sigma_range = g (range_noise_m + "
+       "range_noise_per_m2 r^2), sigma_across = g (cross_noise_m + cross_noise_per_m r), sigma_vertical = "
+       "g (vertical_noise_m + vertical_noise_per_m r), g = the view's noise_scale; unbiased"},
+      {"miss_model",
+       "detected with probability P_near - (P_near - P_far) (r / max_range_m)^2 within max_range_m, "
+       "never beyond; independent per view, object and step"},
+  };
+}
+
+Benchmark make_synthetic_benchmark(const SyntheticOptions& options) {
+  const std::vector<SyntheticView> views = place_synthetic_views(options);  // validates
+  const RandomStream root(options.seed);
+  Benchmark benchmark;
+  benchmark.train = make_split(options, views, root, "train");
+  benchmark.val = make_split(options, views, root, "val");
+  benchmark.test = make_split(options, views, root, "test");
+  benchmark.description = describe_synthetic_benchmark(options, views);
+  return benchmark;
+}
+
+}  // namespace stgf

@@ -25,17 +25,19 @@
 //              ω_b = boundary_turn_rate · min(1, depth/margin) · steer(h, c − p)
 //            where depth is how far p is inside the margin band and steer(h, d) = h × d̂ when h points
 //            toward d (h·d̂ ≥ 0) and ±1 (the sign of h × d̂) when it points away.
-//   avoiding every other object j closer than r_a = avoidance_radius with closeness κ = 1 − d_ij/r_a:
-//              ω_a = Σ_{j ahead (h·d̂_ij > 0)} −avoidance_turn_rate · κ · sign(h × d̂_ij)
-//              a_r = Σ_j avoidance_acceleration · κ · (p_i − p_j)/d_ij
-//            (steer away from those ahead, and be pushed apart).
+//   avoiding every other object j closer than r_a = avoidance_radius, with closeness κ_j = 1 − d_ij/r_a
+//            and d̂_j the unit vector from i to j, asks i to steer away from those ahead (h·d̂_j > 0),
+//            to slow down for them, and to step away from all of them:
+//              ω_a = −avoidance_turn_rate · Σ_{j ahead} κ_j sign(h × d̂_j)
+//              β   = max_{j ahead} κ_j (h·d̂_j)                       (braking, ∈ [0, 1])
+//              u_a = −avoidance_speed · Σ_j κ_j d̂_j                  (sidestep velocity)
 //   heading  h is rotated by (ω + ω_b + ω_a)·dt.
-//   velocity the desired velocity is s·h (0 while stopped); v moves toward it with at most
-//            max_acceleration·dt (so a stopping object comes to rest, and sharp turns widen), then
-//            v ← v + a_r dt.
+//   velocity the intended velocity is s (1 − β) h + u_a (only u_a while stopped); v moves toward it
+//            by at most max_acceleration·dt (so objects come to rest when they stop, and sharp turns
+//            widen).
 //   position after every object's velocity is updated, p ← p + v dt.
-// Objects start inside the margin band, at least avoidance_radius apart when possible, walking in a
-// uniformly random direction with ω drawn from its stationary N(0, σ_ω²). Truth is (p_x, p_y, 0) at
+// Objects start in the inner square [−(w − margin), w − margin]², at least avoidance_radius apart
+// when possible, walking in a uniformly random direction with ω drawn from its stationary N(0, σ_ω²). Truth is (p_x, p_y, 0) at
 // every frame t = step / rate_hz for every object.
 //
 // ── Views ────────────────────────────────────────────────────────────────────────────────────────
@@ -103,9 +105,9 @@ struct SyntheticOptions {
   double stop_rate_per_s = 0.08;            // stops per second of walking (1/s)
   double min_stop_s = 1.0;                  // a stop lasts uniform in [min, max] (s)
   double max_stop_s = 4.0;
-  double avoidance_radius_m = 2.0;          // objects closer than this steer away and push apart (m; 0 = off)
+  double avoidance_radius_m = 2.0;          // objects closer than this avoid each other (m; 0 = off)
   double avoidance_turn_rate_rad_s = 2.0;   // turn rate away from a neighbour ahead at contact (rad/s)
-  double avoidance_acceleration_m_s2 = 3.0; // push apart at contact, falling linearly to 0 at the radius (m/s²)
+  double avoidance_speed_m_s = 1.0;         // sidestep speed away from a neighbour at contact (m/s)
   double max_substep_s = 0.02;              // longest integration substep (s)
 
   // ── Views ──
@@ -126,9 +128,9 @@ struct SyntheticOptions {
   double vertical_noise_per_m = 0.004;      // b_v: its growth with range (rad)
 
   // ── Misses: P_d(r) = P_near − (P_near − P_far)(r/max_range)², 0 beyond max_range ──
-  double max_range_m = 45.0;                    // no detection beyond this range (m)
+  double max_range_m = 50.0;                    // no detection beyond this range (m)
   double detection_probability_near = 0.98;     // P_near: at range 0
-  double detection_probability_far = 0.6;       // P_far: at max_range
+  double detection_probability_far = 0.7;       // P_far: at max_range
 };
 
 // Throws std::invalid_argument naming the first option out of range and its value.

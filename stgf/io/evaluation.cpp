@@ -45,6 +45,7 @@ struct ReferenceRow {
   std::optional<Vector3d> sensor;        // of the row's view
   bool excluded = false;                 // before from_step
   std::string description;               // for messages
+  std::size_t order = 0;                 // position in the reference rows
 };
 
 std::string row_key(const std::string& scene, int step, const std::string& view, const std::string& object) {
@@ -68,6 +69,7 @@ void build_reference(const Rows& rows, const Describe& describe, int from_step, 
     ReferenceRow& entry = reference[keys.back()];
     entry.excluded = step < from_step;
     entry.description = describe(k);
+    entry.order = k;
   }
   for (std::size_t k = 0; k < rows.size(); ++k) {
     const auto& row = rows[k];
@@ -165,12 +167,14 @@ Evaluation evaluate(const TruthFile& truth, const std::vector<EstimateFile>& est
       by_views[entry->second.views].add(row.position, *truth_position, entry->second.sensor);
     }
     if (seen.size() != reference.size()) {
+      const ReferenceRow* first_missing = nullptr;
       for (const auto& [key, entry] : reference) {
-        if (!seen.count(key)) {
-          throw InputError(file.path, 0,
-                           fmt::format("method '{}' has no estimate for the row at {}", method, entry.description));
+        if (!seen.count(key) && (first_missing == nullptr || entry.order < first_missing->order)) {
+          first_missing = &entry;
         }
       }
+      throw InputError(file.path, 0,
+                       fmt::format("method '{}' has no estimate for the row at {}", method, first_missing->description));
     }
     score.overall = overall.summary();
     for (const auto& [views, accumulator] : by_views) score.by_views[views] = accumulator.summary();

@@ -47,10 +47,11 @@ std::string evaluation_markdown(const Evaluation& evaluation) {
   }
   text += "\n" + rule + "\n";
   for (const MethodScore& score : evaluation.methods) {
-    text += "| " + score.method + " |";
+    text += fmt::format("| {} |", score.method);
     for (int count : views) {
       const auto it = score.by_views.find(count);
-      text += " " + (it == score.by_views.end() ? std::string("–") : cell(it->second.displacement_error, 4)) + " |";
+      text += fmt::format(" {} |", it == score.by_views.end() ? std::string("–")
+                                                               : cell(it->second.displacement_error, 4));
     }
     text += "\n";
   }

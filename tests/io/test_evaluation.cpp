@@ -1,0 +1,119 @@
+#include "stgf/io/evaluation.hpp"
+
+#include <cmath>
+
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include "stgf/io/evaluation_report.hpp"
+#include "stgf/io/input_error.hpp"
+
+namespace stgf {
+namespace {
+
+using ::testing::HasSubstr;
+
+// Two steps; object o seen by v1 and v2 at t=0, by v1 only at t=1. Sensors 10 m away.
+const std::string kMeasurements =
+    "scene,t,view,object,x,y,z,cov_xx,cov_xy,cov_xz,cov_yy,cov_yz,cov_zz,sensor_x,sensor_y,sensor_z\n"
+    "s,0,v1,o,0,0,0,1,0,0,1,0,1,10,0,0\n"
+    "s,0,v2,o,0,0,0,1,0,0,1,0,1,0,10,0\n"
+    "s,1,v1,o,1,0,0,1,0,0,1,0,1,10,0,0\n";
+const std::string kTruth = "scene,t,object,x,y,z\ns,0,o,0,0,0\ns,1,o,1,0,0\n";
+const std::string kHeader = "scene,t,view,object,x,y,z,cov_xx,cov_xy,cov_xz,cov_yy,cov_yz,cov_zz,method\n";
+
+// Method "a": errors 3 (cov 9·I → NEES 1), 4 (cov 4·I → NEES 4) at t=0, 1 at t=1 (cov I → NEES 1).
+const std::string kMethodA = kHeader +
+                             "s,0,v1,o,3,0,0,9,0,0,9,0,9,a\n"
+                             "s,0,v2,o,0,4,0,4,0,0,4,0,4,a\n"
+                             "s,1,v1,o,1,1,0,1,0,0,1,0,1,a\n";
+
+std::string error_of(const std::vector<std::string>& estimate_texts, bool with_measurements = true) {
+  try {
+    std::vector<EstimateFile> estimates;
+    for (std::size_t k = 0; k < estimate_texts.size(); ++k) {
+      estimates.push_back(parse_estimates("e" + std::to_string(k) + ".csv", estimate_texts[k]));
+    }
+    const MeasurementFile measurements = parse_measurements("m.csv", kMeasurements);
+    evaluate(parse_truth("t.csv", kTruth), estimates, with_measurements ? &measurements : nullptr, 0);
+  } catch (const InputError& error) {
+    return error.what();
+  }
+  return "no error";
+}
+
+TEST(Evaluation, HandComputedScores) {
+  const MeasurementFile measurements = parse_measurements("m.csv", kMeasurements);
+  const Evaluation evaluation =
+      evaluate(parse_truth("t.csv", kTruth), {parse_estimates("e.csv", kMethodA)}, &measurements, 0);
+  ASSERT_EQ(evaluation.methods.size(), 1u);
+  const MethodScore& a = evaluation.methods[0];
+  EXPECT_EQ(a.method, "a");
+  EXPECT_EQ(a.overall.rows, 3u);
+  EXPECT_DOUBLE_EQ(a.overall.displacement_error, (3.0 + 4.0 + 1.0) / 3);
+  // Ranges: ‖(0,0,0) − (10,0,0)‖ = 10, ‖(0,0,0) − (0,10,0)‖ = 10, ‖(1,0,0) − (10,0,0)‖ = 9.
+  EXPECT_DOUBLE_EQ(a.overall.relative_displacement_error, (0.3 + 0.4 + 1.0 / 9.0) / 3);
+  EXPECT_DOUBLE_EQ(a.overall.nees_mean, 2.0);
+  EXPECT_DOUBLE_EQ(a.overall.nees_share_in_95, 1.0);
+  ASSERT_EQ(a.by_views.size(), 2u);
+  EXPECT_EQ(a.by_views.at(2).rows, 2u);
+  EXPECT_DOUBLE_EQ(a.by_views.at(2).displacement_error, 3.5);
+  EXPECT_DOUBLE_EQ(a.by_views.at(1).displacement_error, 1.0);
+
+  const std::string table = evaluation_markdown(evaluation);
+  EXPECT_THAT(table, HasSubstr("| a | 3 | 2.6667 | 0.2704 | 2.00 | 1.000 |"));
+  EXPECT_THAT(table, HasSubstr("| a | 1.0000 | 3.5000 |"));
+  const nlohmann::json json = evaluation_json(evaluation);
+  EXPECT_DOUBLE_EQ(json["methods"][0]["overall"]["nees_mean"].get<double>(), 2.0);
+  EXPECT_EQ(json["methods"][0]["by_views"]["2"]["rows"].get<int>(), 2);
+}
+
+TEST(Evaluation, FromStepLeavesOutEarlyStepsForEveryMethod) {
+  const MeasurementFile measurements = parse_measurements("m.csv", kMeasurements);
+  const Evaluation evaluation =
+      evaluate(parse_truth("t.csv", kTruth), {parse_estimates("e.csv", kMethodA)}, &measurements, 1);
+  EXPECT_EQ(evaluation.rows_excluded, 2u);
+  EXPECT_EQ(evaluation.methods[0].overall.rows, 1u);
+  EXPECT_DOUBLE_EQ(evaluation.methods[0].overall.displacement_error, 1.0);
+}
+
+TEST(Evaluation, WithoutMeasurementsTheFirstMethodFixesTheRowsAndNoRelativeError) {
+  const Evaluation evaluation =
+      evaluate(parse_truth("t.csv", kTruth), {parse_estimates("e.csv", kMethodA)}, nullptr, 0);
+  EXPECT_EQ(evaluation.methods[0].overall.rows, 3u);
+  EXPECT_TRUE(std::isnan(evaluation.methods[0].overall.relative_displacement_error));
+  EXPECT_EQ(evaluation.methods[0].by_views.at(2).rows, 2u);
+}
+
+TEST(Evaluation, MissingEstimateIsAnError) {
+  EXPECT_EQ(error_of({kHeader + "s,0,v1,o,3,0,0,9,0,0,9,0,9,b\ns,1,v1,o,1,1,0,1,0,0,1,0,1,b\n"}),
+            "e0.csv: method 'b' has no estimate for the row at m.csv:3");
+}
+
+TEST(Evaluation, EstimateWithoutMeasurementIsAnError) {
+  EXPECT_EQ(error_of({kMethodA + "s,1,v2,o,1,1,0,1,0,0,1,0,1,a\n"}),
+            "e0.csv:5: estimate for scene 's', t 1, view 'v2', object 'o' has no matching measurement in m.csv");
+}
+
+TEST(Evaluation, MethodsMustCoverTheSameRowsWithoutMeasurements) {
+  EXPECT_EQ(error_of({kMethodA, kHeader + "s,0,v1,o,3,0,0,9,0,0,9,0,9,b\n"}, false),
+            "e1.csv: method 'b' has no estimate for the row at e0.csv:3");
+}
+
+TEST(Evaluation, SameMethodInTwoFilesIsAnError) {
+  EXPECT_EQ(error_of({kMethodA, kMethodA}), "e1.csv:2: method 'a' already comes from e0.csv");
+}
+
+TEST(Evaluation, EstimateWithoutTruthIsAnError) {
+  const std::string no_truth_row = kHeader + "s,0,v1,o,3,0,0,9,0,0,9,0,9,a\n";
+  try {
+    evaluate(parse_truth("t.csv", "scene,t,object,x,y,z\ns,1,o,1,0,0\n"), {parse_estimates("e.csv", no_truth_row)},
+             nullptr, 0);
+    FAIL();
+  } catch (const InputError& error) {
+    EXPECT_STREQ(error.what(), "e.csv:2: no truth for scene 's', t 0, object 'o' in t.csv");
+  }
+}
+
+}  // namespace
+}  // namespace stgf

@@ -1,0 +1,129 @@
+// Every bad measurements input named in DESIGN §3 stops with "FILE:LINE: reason" (the header is
+// line 1); one test per case.
+
+#include "stgf/io/measurement_file.hpp"
+
+#include <filesystem>
+
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include "stgf/io/input_error.hpp"
+
+namespace stgf {
+namespace {
+
+using ::testing::HasSubstr;
+using ::testing::StartsWith;
+
+const std::string kHeader = "scene,t,view,object,x,y,z,cov_xx,cov_xy,cov_xz,cov_yy,cov_yz,cov_zz\n";
+
+std::string error_of(const std::string& text) {
+  try {
+    parse_measurements("m.csv", text);
+  } catch (const InputError& error) {
+    return error.what();
+  }
+  return "no error";
+}
+
+TEST(MeasurementFile, ReadsColumnsInAnyOrderAndIgnoresUnknownOnes) {
+  const MeasurementFile file = parse_measurements(
+      "m.csv",
+      "cov_zz,comment,object,view,t,scene,z,y,x,cov_yz,cov_yy,cov_xz,cov_xy,cov_xx\n"
+      "3,hello,o1,v1,0.5,s,1.5,2.5,3.5,0,2,0,0.1,1\n");
+  ASSERT_EQ(file.rows.size(), 1u);
+  const Measurement& m = file.rows[0];
+  EXPECT_EQ(m.scene, "s");
+  EXPECT_EQ(m.view, "v1");
+  EXPECT_EQ(m.object, "o1");
+  EXPECT_DOUBLE_EQ(m.time, 0.5);
+  EXPECT_EQ(m.position.mean(), Vector3d(3.5, 2.5, 1.5));
+  EXPECT_DOUBLE_EQ(m.position.covariance()(0, 1), 0.1);
+  EXPECT_DOUBLE_EQ(m.position.covariance()(1, 0), 0.1);
+  EXPECT_DOUBLE_EQ(m.position.covariance()(2, 2), 3.0);
+  EXPECT_FALSE(file.has_sensor_positions);
+  EXPECT_EQ(file.lines, std::vector<int>{2});
+}
+
+TEST(MeasurementFile, ReadsSensorPositions) {
+  const MeasurementFile file = parse_measurements(
+      "m.csv", "scene,t,view,object,x,y,z,cov_xx,cov_xy,cov_xz,cov_yy,cov_yz,cov_zz,sensor_x,sensor_y,sensor_z\n"
+               "s,0,v,o,1,2,3,1,0,0,1,0,1,10,20,30\n");
+  EXPECT_TRUE(file.has_sensor_positions);
+  EXPECT_EQ(*file.rows[0].sensor_position, Vector3d(10, 20, 30));
+}
+
+TEST(MeasurementFile, MissingColumn) {
+  EXPECT_EQ(error_of("scene,t,view,object,x,y,z,cov_xx,cov_xy,cov_xz,cov_yy,cov_zz\n"),
+            "m.csv:1: missing column 'cov_yz'");
+}
+
+TEST(MeasurementFile, NonNumericField) {
+  EXPECT_EQ(error_of(kHeader + "s,0,v,o,1,2,3,1,0,0,1,0,1\ns,0.1,v,o,1,two,3,1,0,0,1,0,1\n"),
+            "m.csv:3: column 'y': 'two' is not a number");
+}
+
+TEST(MeasurementFile, NotANumber) {
+  EXPECT_EQ(error_of(kHeader + "s,0,v,o,NaN,2,3,1,0,0,1,0,1\n"), "m.csv:2: column 'x': 'NaN' is not finite");
+}
+
+TEST(MeasurementFile, Infinity) {
+  EXPECT_EQ(error_of(kHeader + "s,0,v,o,1,2,3,1,0,0,inf,0,1\n"), "m.csv:2: column 'cov_yy': 'inf' is not finite");
+}
+
+TEST(MeasurementFile, CovarianceNotPositiveDefinite) {
+  EXPECT_THAT(error_of(kHeader + "s,0,v,o,1,2,3,1,0,0,1,0,1\ns,0,v,o2,1,2,3,1,2,0,1,0,1\n"),
+              StartsWith("m.csv:3: covariance is not positive definite (smallest eigenvalue -1)"));
+}
+
+TEST(MeasurementFile, CovarianceSingular) {
+  EXPECT_THAT(error_of(kHeader + "s,0,v,o,1,2,3,1,1,0,1,0,1\n"), StartsWith("m.csv:2: covariance is"));
+}
+
+TEST(MeasurementFile, DuplicateRow) {
+  EXPECT_EQ(error_of(kHeader + "s,0.1,v1,o1,1,2,3,1,0,0,1,0,1\n"
+                               "s,0.1,v2,o1,1,2,3,1,0,0,1,0,1\n"
+                               "s,0.1000004,v1,o1,1,2,3,1,0,0,1,0,1\n"),
+            "m.csv:4: duplicate row for scene 's', t 0.1, view 'v1', object 'o1' (first at line 2)");
+}
+
+TEST(MeasurementFile, SameKeyAtAnotherTimeIsNoDuplicate) {
+  EXPECT_EQ(error_of(kHeader + "s,0.1,v1,o1,1,2,3,1,0,0,1,0,1\ns,0.2,v1,o1,1,2,3,1,0,0,1,0,1\n"
+                               "s2,0.1,v1,o1,1,2,3,1,0,0,1,0,1\n"),
+            "no error");
+}
+
+TEST(MeasurementFile, EmptyIdentifier) {
+  EXPECT_EQ(error_of(kHeader + "s,0,,o,1,2,3,1,0,0,1,0,1\n"), "m.csv:2: column 'view' is empty");
+}
+
+TEST(MeasurementFile, PartialSensorColumns) {
+  EXPECT_EQ(error_of("scene,t,view,object,x,y,z,cov_xx,cov_xy,cov_xz,cov_yy,cov_yz,cov_zz,sensor_x\n"),
+            "m.csv:1: sensor_x, sensor_y and sensor_z must be given together");
+}
+
+TEST(MeasurementFile, WrittenFileReadsBackTheSame) {
+  Matrix3d covariance;
+  covariance << 0.04, 0.01, -0.002, 0.01, 0.09, 0.003, -0.002, 0.003, 0.01;
+  const std::vector<Measurement> rows = {
+      {"scene, with comma", 0.1, "v1", "o1", Gaussian3::from_covariance(Vector3d(1.25, -2.5, 1e-3), covariance),
+       Vector3d(10, 20, 5)},
+      {"scene, with comma", 0.2, "v1", "o1", Gaussian3::from_covariance(Vector3d(123456.789012, 0, 0), covariance),
+       Vector3d(10, 20, 5)}};
+  const std::string path = (std::filesystem::temp_directory_path() / "stgf_test_measurements.csv").string();
+  write_measurements(path, rows);
+  const MeasurementFile file = read_measurements(path);
+  std::filesystem::remove(path);
+  ASSERT_EQ(file.rows.size(), 2u);
+  for (std::size_t k = 0; k < rows.size(); ++k) {
+    EXPECT_EQ(file.rows[k].scene, rows[k].scene);
+    EXPECT_NEAR(file.rows[k].time, rows[k].time, 1e-9);
+    EXPECT_LT((file.rows[k].position.mean() - rows[k].position.mean()).norm(), 1e-6);
+    EXPECT_LT((file.rows[k].position.covariance() - covariance).norm(), 1e-9);
+    EXPECT_EQ(*file.rows[k].sensor_position, Vector3d(10, 20, 5));
+  }
+}
+
+}  // namespace
+}  // namespace stgf
