@@ -9,7 +9,8 @@
 // root = RandomStream(seed). Views: root.child("views"). Scene k of split S ("train", "val",
 // "test"): scene = root.child(S).child(k); its motion draws from scene.child("motion") and view v's
 // detections and noise from scene.child("sensing").child(v). So splits and scenes are independent,
-// and adding a view changes neither the trajectories nor the other views' measurements.
+// the number of views does not change the trajectories, and one view's misses and noise do not
+// depend on the other views.
 //
 // ── Motion (ground plane, z = 0; every rate per second, so any rate_hz gives the same motion) ─────
 // Each frame period 1/rate_hz is integrated in n = ⌈(1/rate_hz)/max_substep_s⌉ equal substeps dt.
@@ -37,8 +38,8 @@
 //            widen).
 //   position after every object's velocity is updated, p ← p + v dt.
 // Objects start in the inner square [−(w − margin), w − margin]², at least avoidance_radius apart
-// when possible, walking in a uniformly random direction with ω drawn from its stationary N(0, σ_ω²). Truth is (p_x, p_y, 0) at
-// every frame t = step / rate_hz for every object.
+// when possible, walking in a uniformly random direction with ω drawn from its stationary
+// N(0, σ_ω²). Truth is (p_x, p_y, 0) at every frame t = step / rate_hz for every object.
 //
 // ── Views ────────────────────────────────────────────────────────────────────────────────────────
 // View k (of V) sits at angle α₀ + 2πk/V + U[−angle_jitter, angle_jitter] (α₀ ~ U[0, 2π)) on a circle

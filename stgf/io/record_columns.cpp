@@ -63,10 +63,11 @@ void check_no_duplicate_rows(const std::string& path, std::size_t count,
   for (std::size_t k = 1; k < order.size(); ++k) {
     const std::size_t a = order[k - 1], b = order[k];
     if (keys[a] != keys[b] || time_of(b) - time_of(a) > kSameStepTolerance) continue;
-    const int first = std::min(line_of(a), line_of(b)), second = std::max(line_of(a), line_of(b));
+    const std::size_t later = line_of(a) < line_of(b) ? b : a;
+    const int first = std::min(line_of(a), line_of(b)), second = line_of(later);
     if (worst_line == 0 || second < worst_line) {
       worst_line = second;
-      message = "duplicate row for " + describe(a) + " (first at line " + std::to_string(first) + ")";
+      message = "duplicate row for " + describe(later) + " (first at line " + std::to_string(first) + ")";
     }
   }
   if (worst_line != 0) throw InputError(path, worst_line, message);

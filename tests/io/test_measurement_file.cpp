@@ -85,7 +85,7 @@ TEST(MeasurementFile, DuplicateRow) {
   EXPECT_EQ(error_of(kHeader + "s,0.1,v1,o1,1,2,3,1,0,0,1,0,1\n"
                                "s,0.1,v2,o1,1,2,3,1,0,0,1,0,1\n"
                                "s,0.1000004,v1,o1,1,2,3,1,0,0,1,0,1\n"),
-            "m.csv:4: duplicate row for scene 's', t 0.1, view 'v1', object 'o1' (first at line 2)");
+            "m.csv:4: duplicate row for scene 's', t 0.1000004, view 'v1', object 'o1' (first at line 2)");
 }
 
 TEST(MeasurementFile, SameKeyAtAnotherTimeIsNoDuplicate) {

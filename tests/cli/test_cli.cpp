@@ -1,0 +1,183 @@
+// The stgf command line, run as a user runs it: bad input stops with "FILE:LINE: reason" (FILE as
+// given on the command line), exit status 2 and no output file; good input gives exit 0 and files.
+
+#include <sys/wait.h>
+
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+namespace {
+
+namespace fs = std::filesystem;
+using ::testing::HasSubstr;
+using ::testing::StartsWith;
+
+struct Result {
+  int status;
+  std::string out;
+  std::string err;
+};
+
+std::string slurp(const fs::path& path) {
+  std::ifstream file(path);
+  std::ostringstream text;
+  text << file.rdbuf();
+  return text.str();
+}
+
+class Cli : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    directory_ = fs::temp_directory_path() /
+                 ("stgf_cli_" + std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()));
+    fs::remove_all(directory_);
+    fs::create_directories(directory_);
+  }
+  void TearDown() override { fs::remove_all(directory_); }
+
+  // Runs stgf inside the test directory, so file names on the command line are relative.
+  Result stgf(const std::string& arguments) const {
+    const std::string command = "cd '" + directory_.string() + "' && '" STGF_BINARY "' " + arguments +
+                                " >stdout.txt 2>stderr.txt";
+    const int raw = std::system(command.c_str());
+    Result result{WIFEXITED(raw) ? WEXITSTATUS(raw) : -1, slurp(directory_ / "stdout.txt"),
+                  slurp(directory_ / "stderr.txt")};
+    return result;
+  }
+
+  void write(const std::string& name, const std::string& text) const { std::ofstream(directory_ / name) << text; }
+  bool exists(const std::string& name) const { return fs::exists(directory_ / name); }
+
+  // Runs `stgf run` on a measurements text and expects the given error.
+  // `previous_output`: what e.csv held before the run, which must survive it ("" when absent).
+  void expect_run_error(const std::string& measurements, const std::string& message,
+                        const std::string& previous_output = "") const {
+    write("m.csv", measurements);
+    const Result result = stgf("run --method wls --measurements m.csv --out e.csv");
+    EXPECT_EQ(result.status, 2) << result.err;
+    EXPECT_THAT(result.err, StartsWith(message));
+    if (previous_output.empty()) {
+      EXPECT_FALSE(exists("e.csv"));
+    } else {
+      EXPECT_EQ(slurp(directory_ / "e.csv"), previous_output);
+    }
+    for (const auto& entry : fs::directory_iterator(directory_)) {
+      EXPECT_THAT(entry.path().filename().string(), ::testing::Not(HasSubstr(".tmp"))) << "left a temporary file";
+    }
+  }
+
+  fs::path directory_;
+};
+
+const std::string kHeader = "scene,t,view,object,x,y,z,cov_xx,cov_xy,cov_xz,cov_yy,cov_yz,cov_zz\n";
+const std::string kGoodRows =
+    "s,0,v1,o1,0,0,0,1,0,0,1,0,1\n"
+    "s,0,v2,o1,1,0,0,1,0,0,1,0,1\n"
+    "s,0.1,v1,o1,0.1,0,0,1,0,0,1,0,1\n";
+
+TEST_F(Cli, HelpListsTheCommands) {
+  const Result result = stgf("--help");
+  EXPECT_EQ(result.status, 0);
+  for (const char* command : {"run", "eval", "dataset"}) EXPECT_THAT(result.out, HasSubstr(command));
+  for (const char* command : {"run --help", "eval --help", "dataset --help", "dataset synthetic --help"}) {
+    const Result help = stgf(command);
+    EXPECT_EQ(help.status, 0) << command;
+    EXPECT_THAT(help.out, HasSubstr("--")) << command;
+  }
+}
+
+TEST_F(Cli, UsageErrorsExitWithTwo) {
+  EXPECT_EQ(stgf("").status, 2);
+  EXPECT_EQ(stgf("run --method nope --measurements m.csv --out e.csv").status, 2);
+  EXPECT_EQ(stgf("run --method wls").status, 2);
+}
+
+TEST_F(Cli, MissingFile) {
+  const Result result = stgf("run --method wls --measurements absent.csv --out e.csv");
+  EXPECT_EQ(result.status, 2);
+  EXPECT_THAT(result.err, StartsWith("absent.csv: cannot open the file"));
+  EXPECT_FALSE(exists("e.csv"));
+}
+
+TEST_F(Cli, MissingColumn) {
+  expect_run_error("scene,t,view,object,x,y,z,cov_xx,cov_xy,cov_xz,cov_yy,cov_yz\n" "s,0,v,o,1,2,3,1,0,0,1,0\n",
+                   "m.csv:1: missing column 'cov_zz'");
+}
+
+TEST_F(Cli, NonNumericField) {
+  expect_run_error(kHeader + kGoodRows + "s,0.2,v1,o1,abc,0,0,1,0,0,1,0,1\n",
+                   "m.csv:5: column 'x': 'abc' is not a number");
+}
+
+TEST_F(Cli, NaN) {
+  expect_run_error(kHeader + "s,0,v1,o1,0,nan,0,1,0,0,1,0,1\n", "m.csv:2: column 'y': 'nan' is not finite");
+}
+
+TEST_F(Cli, Infinity) {
+  expect_run_error(kHeader + kGoodRows + "s,0.2,v1,o1,0,0,0,1,0,0,1,0,Infinity\n",
+                   "m.csv:5: column 'cov_zz': 'Infinity' is not finite");
+}
+
+TEST_F(Cli, CovarianceNotPositiveDefinite) {
+  expect_run_error(kHeader + kGoodRows + "s,0.2,v1,o1,0,0,0,1,0,0,-1,0,1\n",
+                   "m.csv:5: covariance is not positive definite");
+}
+
+TEST_F(Cli, DuplicateMeasurement) {
+  expect_run_error(kHeader + kGoodRows + "s,0.0000001,v2,o1,1,0,0,1,0,0,1,0,1\n",
+                   "m.csv:5: duplicate row for scene 's', t 1e-07, view 'v2', object 'o1' (first at line 3)");
+}
+
+TEST_F(Cli, MeasurementWithoutTruth) {
+  write("m.csv", kHeader + kGoodRows);
+  write("t.csv", "scene,t,object,x,y,z\ns,0,o1,0,0,0\n");
+  ASSERT_EQ(stgf("run --method wls --measurements m.csv --out e.csv").status, 0);
+  const Result result = stgf("eval --truth t.csv --measurements m.csv --estimates e.csv --json r.json");
+  EXPECT_EQ(result.status, 2);
+  EXPECT_THAT(result.err, StartsWith("m.csv:4: no truth for scene 's', t 0.1, object 'o1' in t.csv"));
+  EXPECT_FALSE(exists("r.json"));
+  EXPECT_EQ(result.out, "");
+}
+
+TEST_F(Cli, BadConfig) {
+  write("m.csv", kHeader + kGoodRows);
+  write("c.yaml", "mmt:\n  position_noise_density: 1\n  velocity_noise: 2\n");
+  const Result result = stgf("run --method mmt --measurements m.csv --out e.csv --config c.yaml");
+  EXPECT_EQ(result.status, 2);
+  EXPECT_THAT(result.err, StartsWith("c.yaml:3: unknown setting 'mmt.velocity_noise'"));
+  EXPECT_FALSE(exists("e.csv"));
+}
+
+TEST_F(Cli, FailedRunKeepsThePreviousOutput) {
+  write("e.csv", "previous\n");
+  expect_run_error(kHeader + "s,0,v1,o1,0,nan,0,1,0,0,1,0,1\n", "m.csv:2:", "previous\n");
+}
+
+TEST_F(Cli, RunThenEval) {
+  write("m.csv", "scene,t,view,object,x,y,z,cov_xx,cov_xy,cov_xz,cov_yy,cov_yz,cov_zz,sensor_x,sensor_y,sensor_z\n"
+                 "s,0,v1,o1,0,0,0,1,0,0,1,0,1,10,0,0\n"
+                 "s,0,v2,o1,1,0,0,1,0,0,1,0,1,0,10,0\n"
+                 "s,0.1,v1,o1,0.1,0,0,1,0,0,1,0,1,10,0,0\n");
+  write("t.csv", "scene,t,object,x,y,z\ns,0,o1,0.5,0,0\ns,0.1,o1,0.1,0,0\n");
+  for (const char* method : {"aom", "wls", "mmt"}) {
+    const Result run = stgf(std::string("run --method ") + method + " --measurements m.csv --out " + method + ".csv");
+    ASSERT_EQ(run.status, 0) << run.err;
+    EXPECT_THAT(slurp(directory_ / (std::string(method) + ".csv")),
+                StartsWith("scene,t,view,object,x,y,z,cov_xx,cov_xy,cov_xz,cov_yy,cov_yz,cov_zz,method\n"));
+  }
+  const Result eval =
+      stgf("eval --truth t.csv --measurements m.csv --estimates aom.csv wls.csv mmt.csv --json r.json");
+  ASSERT_EQ(eval.status, 0) << eval.err;
+  EXPECT_THAT(eval.out, HasSubstr("| method | rows | DE (m) | REL-DE | NEES mean | NEES in 95% |"));
+  EXPECT_THAT(eval.out, HasSubstr("| aom | 3 | 0.0000 |"));
+  EXPECT_THAT(eval.out, HasSubstr("| wls | 3 | 0.0000 |"));
+  EXPECT_THAT(eval.out, HasSubstr("| mmt | 3 |"));
+  EXPECT_THAT(slurp(directory_ / "r.json"), HasSubstr("\"method\": \"mmt\""));
+}
+
+}  // namespace
