@@ -3,8 +3,7 @@
 #include <cmath>
 #include <stdexcept>
 
-#include <Eigen/Cholesky>
-
+#include "stgf/core/cholesky3.hpp"
 #include "stgf/core/multi_view_update.hpp"
 
 namespace stgf {
@@ -40,12 +39,12 @@ void ConstantVelocityFilter::update(const Gaussian3& measurement) {
   // With H = [I 0]: H C Hᵀ = A (position block), C Hᵀ = first three columns of C.
   const Eigen::Matrix<double, 6, 3> c_ht = covariance_.leftCols<3>();
   const Matrix3d innovation_covariance = covariance_.topLeftCorner<3, 3>() + measurement.covariance();
-  const Eigen::LLT<Matrix3d> cholesky(innovation_covariance);
-  if (cholesky.info() != Eigen::Success) {
+  const Cholesky3 cholesky(innovation_covariance);
+  if (!cholesky.ok()) {
     throw std::runtime_error("ConstantVelocityFilter::update: innovation covariance not SPD");
   }
-  // K = C Hᵀ S⁻¹, computed as (S⁻¹ H C)ᵀ with a Cholesky solve.
-  const Eigen::Matrix<double, 6, 3> gain = cholesky.solve(c_ht.transpose()).transpose();
+  // K = C Hᵀ S⁻¹ with S⁻¹ from the Cholesky factorisation of S.
+  const Eigen::Matrix<double, 6, 3> gain = c_ht * cholesky.inverse();
   state_ += gain * (measurement.mean() - state_.head<3>());
   Matrix6d i_minus_kh = Matrix6d::Identity();
   i_minus_kh.leftCols<3>() -= gain;

@@ -3,8 +3,9 @@
 #include <cmath>
 #include <stdexcept>
 
-#include <Eigen/Cholesky>
 #include <Eigen/Eigenvalues>
+
+#include "stgf/core/cholesky3.hpp"
 
 namespace stgf {
 namespace {
@@ -20,9 +21,9 @@ std::string format_number(double value) {
 
 // Λ = C⁻¹ by a Cholesky factorisation C = L Lᵀ; nullopt when C is not positive definite.
 std::optional<Matrix3d> inverse_by_cholesky(const Matrix3d& matrix) {
-  const Eigen::LLT<Matrix3d> cholesky(matrix);
-  if (cholesky.info() != Eigen::Success) return std::nullopt;
-  return symmetrised(cholesky.solve(Matrix3d::Identity()));
+  const Cholesky3 cholesky(matrix);
+  if (!cholesky.ok()) return std::nullopt;
+  return cholesky.inverse();
 }
 
 }  // namespace
@@ -60,13 +61,13 @@ Gaussian3 Gaussian3::from_covariance(const Vector3d& mean, const Matrix3d& covar
 Gaussian3 Gaussian3::from_information(const Vector3d& information_vector,
                                       const Matrix3d& information) {
   const Matrix3d symmetric = symmetrised(information);
-  const Eigen::LLT<Matrix3d> cholesky(symmetric);
-  if (cholesky.info() != Eigen::Success || !symmetric.allFinite()) {
+  const auto covariance = inverse_by_cholesky(symmetric);
+  if (!covariance || !symmetric.allFinite()) {
     throw std::invalid_argument("information matrix is not positive definite");
   }
-  const Vector3d mean = cholesky.solve(information_vector);
+  const Vector3d mean = *covariance * information_vector;
   if (!mean.allFinite()) throw std::invalid_argument("mean has a NaN or infinite entry");
-  return Gaussian3(mean, symmetrised(cholesky.solve(Matrix3d::Identity())), symmetric);
+  return Gaussian3(mean, *covariance, symmetric);
 }
 
 double Gaussian3::mahalanobis_squared(const Vector3d& point) const {

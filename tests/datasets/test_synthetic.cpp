@@ -589,7 +589,9 @@ TEST(SyntheticViews, PlacedAroundTheScene) {
   std::vector<double> angles;
   for (std::size_t k = 0; k < views.size(); ++k) {
     const SyntheticView& view = views[k];
-    EXPECT_EQ(view.id, "v" + std::to_string(k));
+    std::string expected_id = "v";
+    expected_id += std::to_string(k);  // (not "v" + …: GCC 12 warns falsely about it, -Wrestrict)
+    EXPECT_EQ(view.id, expected_id);
     const double radius = view.sensor_position.head<2>().norm();
     EXPECT_GE(radius, options.view_ring_radius_m - options.view_ring_jitter_m);
     EXPECT_LE(radius, options.view_ring_radius_m + options.view_ring_jitter_m);
