@@ -1,5 +1,7 @@
 #include "stgf/datasets/benchmark_folder.hpp"
 
+#include <unistd.h>
+
 #include <algorithm>
 #include <filesystem>
 #include <map>
@@ -7,8 +9,6 @@
 #include <stdexcept>
 #include <system_error>
 #include <utility>
-
-#include <unistd.h>
 
 #include "stgf/io/measurement_file.hpp"
 #include "stgf/io/output_file.hpp"
@@ -124,7 +124,8 @@ void write_benchmark_folder(const std::string& directory, const Benchmark& bench
 
   const bool replace = fs::exists(target);
   if (replace && !(fs::is_directory(target) && fs::exists(target / kDescriptionFile))) {
-    throw std::runtime_error(name + " exists and is not a stgf benchmark folder; remove it or choose another --out");
+    throw std::runtime_error(name +
+                             " exists and is not a stgf benchmark folder; remove it or choose another --out");
   }
   if (target.has_parent_path()) fs::create_directories(target.parent_path());
 

@@ -16,10 +16,9 @@
 //   truth_rows    truth rows
 // The writer fills it in (replacing any "counts" the description has), so it always matches the files.
 
+#include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
-
-#include <nlohmann/json.hpp>
 
 #include "stgf/core/records.hpp"
 

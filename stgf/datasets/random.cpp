@@ -6,6 +6,8 @@
 // Keep a·b + c as two rounded operations on every compiler (see the header).
 #if defined(__clang__)
 #pragma STDC FP_CONTRACT OFF
+#elif defined(__GNUC__)
+#pragma GCC optimize("fp-contract=off")  // GCC ignores the standard pragma in C++
 #endif
 
 namespace stgf {

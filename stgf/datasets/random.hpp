@@ -23,9 +23,9 @@
 // is the same stream whatever else was generated before. Keys are mixed with the splitmix64
 // finaliser, labels hashed with 64-bit FNV-1a.
 //
-// Floating-point contraction (a·b + c → fma) would change results between machines with and without
-// FMA; the .cpp files of this layer disable it where the compiler allows (GCC in ISO C++ mode does
-// not contract by default).
+// Floating-point contraction (a·b + c → one fused multiply-add) would change results between
+// machines with and without FMA; the .cpp files of this layer turn it off with a pragma (Clang's
+// STDC FP_CONTRACT, GCC's optimize("fp-contract=off"), since GCC contracts by default in C++).
 
 #include <cstdint>
 #include <optional>
@@ -44,12 +44,12 @@ class RandomStream {
   RandomStream child(std::string_view label) const;
   RandomStream child(std::uint64_t index) const;
 
-  std::uint64_t next_word();                 // raw engine output
-  double uniform01();                        // [0, 1), 53-bit resolution
-  double uniform(double low, double high);   // [low, high) (high when low == high)
-  double normal();                           // N(0, 1)
+  std::uint64_t next_word();                // raw engine output
+  double uniform01();                       // [0, 1), 53-bit resolution
+  double uniform(double low, double high);  // [low, high) (high when low == high)
+  double normal();                          // N(0, 1)
   double normal(double mean, double standard_deviation);
-  bool bernoulli(double probability);        // true with `probability` (clipped to [0, 1)); one draw
+  bool bernoulli(double probability);  // true with `probability` (≤ 0 never, ≥ 1 always); one draw
 
  private:
   std::uint64_t key_;
@@ -65,8 +65,8 @@ std::uint64_t splitmix64(std::uint64_t value);
 // is all a simulation needs; their purpose is reproducibility, not speed.
 namespace portable {
 
-double log(double x);          // natural logarithm, x > 0 (NaN otherwise)
-double exp(double x);          // e^x; 0 below −745, +∞ above 709.8
+double log(double x);  // natural logarithm, x > 0 (NaN otherwise)
+double exp(double x);  // e^x; 0 below −745, +∞ above 709.8
 struct SineCosine {
   double sine;
   double cosine;

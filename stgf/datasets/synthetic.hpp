@@ -74,11 +74,10 @@
 // the seed, every option, the views and the model formulas.
 
 #include <cstdint>
+#include <nlohmann/json.hpp>
 #include <span>
 #include <string>
 #include <vector>
-
-#include <nlohmann/json.hpp>
 
 #include "stgf/core/gaussian.hpp"
 #include "stgf/datasets/benchmark_folder.hpp"
@@ -95,43 +94,43 @@ struct SyntheticOptions {
   double rate_hz = 10.0;   // steps per second; t = step / rate_hz (> 0)
 
   // ── Scene and motion ──
-  double area_half_width_m = 15.0;          // objects walk in the square [−w, w]² (m)
-  double boundary_margin_m = 3.0;           // width of the band along the edge where they turn back (m)
-  double boundary_turn_rate_rad_s = 2.0;    // turn rate toward the centre at the outer edge of the band and beyond (rad/s)
-  double min_speed_m_s = 0.8;               // preferred walking speed, uniform in [min, max] per object (m/s)
-  double max_speed_m_s = 1.6;               //   (pedestrians)
-  double max_acceleration_m_s2 = 2.0;       // how fast velocity follows the intended one (m/s²)
-  double turn_rate_std_rad_s = 0.5;         // stationary standard deviation of the random turn rate (rad/s)
-  double turn_rate_correlation_s = 2.0;     // correlation time of the random turn rate (s)
-  double stop_rate_per_s = 0.08;            // stops per second of walking (1/s)
-  double min_stop_s = 1.0;                  // a stop lasts uniform in [min, max] (s)
+  double area_half_width_m = 15.0;        // objects walk in the square [−w, w]² (m)
+  double boundary_margin_m = 3.0;         // width of the band along the edge where they turn back (m)
+  double boundary_turn_rate_rad_s = 2.0;  // turn rate toward the centre at the band's outer edge (rad/s)
+  double min_speed_m_s = 0.8;             // preferred walking speed, uniform in [min, max] per object (m/s)
+  double max_speed_m_s = 1.6;             //   (pedestrians)
+  double max_acceleration_m_s2 = 2.0;     // how fast velocity follows the intended one (m/s²)
+  double turn_rate_std_rad_s = 0.5;       // stationary standard deviation of the random turn rate (rad/s)
+  double turn_rate_correlation_s = 2.0;   // correlation time of the random turn rate (s)
+  double stop_rate_per_s = 0.08;          // stops per second of walking (1/s)
+  double min_stop_s = 1.0;                // a stop lasts uniform in [min, max] (s)
   double max_stop_s = 4.0;
-  double avoidance_radius_m = 2.0;          // objects closer than this avoid each other (m; 0 = off)
-  double avoidance_turn_rate_rad_s = 2.0;   // turn rate away from a neighbour ahead at contact (rad/s)
-  double avoidance_speed_m_s = 1.0;         // sidestep speed away from a neighbour at contact (m/s)
-  double max_substep_s = 0.02;              // longest integration substep (s)
+  double avoidance_radius_m = 2.0;         // objects closer than this avoid each other (m; 0 = off)
+  double avoidance_turn_rate_rad_s = 2.0;  // turn rate away from a neighbour ahead at contact (rad/s)
+  double avoidance_speed_m_s = 1.0;        // sidestep speed away from a neighbour at contact (m/s)
+  double max_substep_s = 0.02;             // longest integration substep (s)
 
   // ── Views ──
-  double view_ring_radius_m = 30.0;         // views stand on a circle of this radius around the centre (m)
-  double view_ring_jitter_m = 4.0;          // ± uniform jitter of each view's radius (m)
-  double view_angle_jitter_rad = 0.25;      // ± uniform jitter of each view's angle on the circle (rad)
-  double min_sensor_height_m = 3.0;         // sensor height, uniform in [min, max] (m)
+  double view_ring_radius_m = 30.0;     // views stand on a circle of this radius around the centre (m)
+  double view_ring_jitter_m = 4.0;      // ± uniform jitter of each view's radius (m)
+  double view_angle_jitter_rad = 0.25;  // ± uniform jitter of each view's angle on the circle (rad)
+  double min_sensor_height_m = 3.0;     // sensor height, uniform in [min, max] (m)
   double max_sensor_height_m = 8.0;
-  double min_noise_scale = 0.7;             // per-view factor g on all noise standard deviations,
-  double max_noise_scale = 1.4;             //   uniform in [min, max]
+  double min_noise_scale = 0.7;  // per-view factor g on all noise standard deviations,
+  double max_noise_scale = 1.4;  //   uniform in [min, max]
 
   // ── Measurement noise: σ_r = g (a_r + b_r r²), σ_c = g (a_c + b_c r), σ_v = g (a_v + b_v r) ──
-  double range_noise_m = 0.05;              // a_r: along-range standard deviation at range 0 (m)
-  double range_noise_per_m2 = 5e-4;         // b_r: its growth with range squared (1/m), 0.5 m at 30 m
-  double cross_noise_m = 0.03;              // a_c: horizontal across-range standard deviation at range 0 (m)
-  double cross_noise_per_m = 0.005;         // b_c: its growth with range (rad), 0.15 m at 30 m
-  double vertical_noise_m = 0.03;           // a_v: vertical across-range standard deviation at range 0 (m)
-  double vertical_noise_per_m = 0.004;      // b_v: its growth with range (rad)
+  double range_noise_m = 0.05;          // a_r: along-range standard deviation at range 0 (m)
+  double range_noise_per_m2 = 5e-4;     // b_r: growth with range squared (1/m); σ_r = 0.5 m at 30 m
+  double cross_noise_m = 0.03;          // a_c: horizontal across-range standard deviation at range 0 (m)
+  double cross_noise_per_m = 0.005;     // b_c: growth with range (rad); σ_c = 0.18 m at 30 m
+  double vertical_noise_m = 0.03;       // a_v: vertical across-range standard deviation at range 0 (m)
+  double vertical_noise_per_m = 0.004;  // b_v: growth with range (rad); σ_v = 0.15 m at 30 m
 
   // ── Misses: P_d(r) = P_near − (P_near − P_far)(r/max_range)², 0 beyond max_range ──
-  double max_range_m = 50.0;                    // no detection beyond this range (m)
-  double detection_probability_near = 0.98;     // P_near: at range 0
-  double detection_probability_far = 0.7;       // P_far: at max_range
+  double max_range_m = 50.0;                 // no detection beyond this range (m)
+  double detection_probability_near = 0.98;  // P_near: at range 0
+  double detection_probability_far = 0.7;    // P_far: at max_range
 };
 
 // Throws std::invalid_argument naming the first option out of range and its value.
