@@ -24,20 +24,21 @@ struct RunOptions {
 void run(const RunOptions& options) {
   const auto start = std::chrono::steady_clock::now();
   const MethodConfig config = options.config.empty() ? MethodConfig{} : read_method_config(options.config);
-  const MeasurementFile measurements = read_measurements(options.measurements);
+  MeasurementFile measurements = read_measurements(options.measurements);
   const std::vector<Gaussian3> positions = run_method(options.method, config, measurements.rows);
-
-  std::vector<Estimate> estimates;
-  estimates.reserve(positions.size());
-  for (std::size_t k = 0; k < positions.size(); ++k) {
-    const Measurement& row = measurements.rows[k];
-    estimates.push_back(Estimate{row.scene, row.time, row.view, row.object, positions[k]});
-  }
-  write_estimates(options.out, estimates, options.method);
-
   std::size_t steps = 0;
   const std::vector<Scene> scenes = group_into_scenes(measurements.rows);
   for (const Scene& scene : scenes) steps += scene.steps.size();
+
+  // The measurements are done with: their names move into the estimates.
+  std::vector<Estimate> estimates;
+  estimates.reserve(positions.size());
+  for (std::size_t k = 0; k < positions.size(); ++k) {
+    Measurement& row = measurements.rows[k];
+    estimates.push_back(
+        Estimate{std::move(row.scene), row.time, std::move(row.view), std::move(row.object), positions[k]});
+  }
+  write_estimates(options.out, estimates, options.method);
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   spdlog::info("{}: {} estimates ({} scenes, {} steps) from {} -> {} in {:.2f} s", options.method,
                estimates.size(), scenes.size(), steps, options.measurements, options.out, seconds);

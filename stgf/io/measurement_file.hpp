@@ -29,10 +29,7 @@ MeasurementFile parse_measurements(const std::string& path, std::string_view tex
 // Writes the rows (with the sensor columns when every row has a sensor position).
 void write_measurements(const std::string& path, std::span<const Measurement> rows);
 
-// Formatting shared by the writers: times with microsecond resolution, positions with 12
-// significant digits (sub-micrometre at a kilometre), covariances with 9.
-std::string format_time(double seconds);
+// A position as the writers write it: 12 significant digits (sub-micrometre at a kilometre).
 std::string format_position(double metres);
-std::string format_covariance_entry(double value);
 
 }  // namespace stgf

@@ -4,7 +4,7 @@
 
 #include <fmt/format.h>
 
-#include "stgf/io/csv_table.hpp"
+#include "stgf/io/csv_reader.hpp"
 #include "stgf/io/input_error.hpp"
 #include "stgf/io/measurement_file.hpp"
 #include "stgf/io/output_file.hpp"
@@ -13,25 +13,25 @@
 namespace stgf {
 namespace {
 
-TruthFile truth_from_table(const CsvTable& table) {
-  const detail::KeyColumns keys = detail::require_key_columns(table, /*with_view=*/false);
+TruthFile read_rows(CsvReader reader) {
+  const detail::KeyColumns keys = detail::require_key_columns(reader, /*with_view=*/false);
   int position[3];
-  detail::require_position_columns(table, position);
+  detail::require_position_columns(reader, position);
   TruthFile file;
-  file.path = table.path();
-  file.rows.reserve(table.rows().size());
-  for (const CsvTable::Row& row : table.rows()) {
-    file.rows.push_back(TruthPoint{table.text(row, keys.scene), table.number(row, keys.time),
-                                   table.text(row, keys.object), table.vector3(row, position)});
+  file.path = reader.path();
+  std::vector<detail::RowIdentity> identities;
+  CsvReader::Row row;
+  while (reader.next(row)) {
+    TruthPoint point{reader.text(row, keys.scene), reader.number(row, keys.time), reader.text(row, keys.object),
+                     reader.vector3(row, position)};
+    identities.push_back({point.scene + '\n' + point.object, point.time, row.line, file.rows.size()});
+    file.rows.push_back(std::move(point));
     file.lines.push_back(row.line);
   }
-  const auto& rows = file.rows;
-  detail::check_no_duplicate_rows(
-      file.path, rows.size(), [&](std::size_t k) { return rows[k].scene + '\n' + rows[k].object; },
-      [&](std::size_t k) { return rows[k].time; }, [&](std::size_t k) { return file.lines[k]; },
-      [&](std::size_t k) {
-        return fmt::format("scene '{}', t {}, object '{}'", rows[k].scene, rows[k].time, rows[k].object);
-      });
+  detail::check_no_duplicate_rows(file.path, std::move(identities), [&](std::size_t k) {
+    const TruthPoint& p = file.rows[k];
+    return fmt::format("scene '{}', t {}, object '{}'", p.scene, p.time, p.object);
+  });
   return file;
 }
 
@@ -44,20 +44,25 @@ std::string scene_object_key(std::string_view scene, std::string_view object) {
 
 }  // namespace
 
-TruthFile read_truth(const std::string& path) { return truth_from_table(CsvTable::read(path)); }
+TruthFile read_truth(const std::string& path) { return read_rows(CsvReader::open(path)); }
 
 TruthFile parse_truth(const std::string& path, std::string_view text) {
-  return truth_from_table(CsvTable::parse(path, text));
+  return read_rows(CsvReader::from_text(path, std::string(text)));
 }
 
 void write_truth(const std::string& path, std::span<const TruthPoint> rows) {
   OutputFile file(path);
-  std::ofstream& out = file.stream();
-  out << "scene,t,object,x,y,z\n";
+  file.stream() << "scene,t,object,x,y,z\n";
+  std::string line;
   for (const TruthPoint& row : rows) {
-    out << detail::csv_field(row.scene) << ',' << format_time(row.time) << ','
-        << detail::csv_field(row.object) << ',' << format_position(row.position.x()) << ','
-        << format_position(row.position.y()) << ',' << format_position(row.position.z()) << '\n';
+    line.clear();
+    detail::append_key(line, row.scene, row.time, nullptr, row.object);
+    for (int k = 0; k < 3; ++k) {
+      detail::append_number(line, row.position(k), 12);
+      if (k < 2) line += ',';
+    }
+    line += '\n';
+    file.stream() << line;
   }
   file.commit();
 }
