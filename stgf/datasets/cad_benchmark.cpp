@@ -11,17 +11,12 @@
 #include <utility>
 
 #include "stgf/datasets/kitti_tracking.hpp"
+#include "stgf/datasets/option_checks.hpp"
 #include "stgf/datasets/random.hpp"
 #include "stgf/datasets/recording.hpp"
 
-// Keep a·b + c as two rounded operations on every compiler (see synthetic.cpp): the files must be
-// byte-identical on machines with and without fused multiply-add. For the same reason the products
-// below are spelled out in a fixed order and every random draw is its own statement.
-#if defined(__clang__)
-#pragma STDC FP_CONTRACT OFF
-#elif defined(__GNUC__)
-#pragma GCC optimize("fp-contract=off")
-#endif
+// last: applies to this file's functions only
+#include "stgf/datasets/fp_contract_off.hpp"
 
 namespace stgf {
 namespace {
@@ -29,18 +24,6 @@ namespace {
 constexpr double kPi = portable::kPi;
 constexpr double kRateHz = 10.0;  // KITTI's frame rate: t = frame / 10
 constexpr std::string_view kSplitNames[] = {"train", "val", "test"};
-
-// ── Checking the options ──
-
-[[noreturn]] void reject(const std::string& what) { throw std::invalid_argument("cad benchmark: " + what); }
-
-void check_whole(std::string_view name, int value, int minimum) {
-  if (value < minimum) reject(fmt::format("{} must be at least {} (got {})", name, minimum, value));
-}
-
-void check_real(std::string_view name, double value, bool holds, std::string_view rule) {
-  if (!std::isfinite(value) || !holds) reject(fmt::format("{} must be {} (got {})", name, rule, value));
-}
 
 // ── Geometry ──
 
@@ -392,8 +375,9 @@ SplitResult make_split(const CadOptions& options, const RandomStream& root, std:
           const double xi[3] = {xi0, xi1, xi2};
 
           // U' = Rz(δψ) U; p' = s + δc + Rz(δψ)(p − s); z = p' + U' diag(σ) ξ; R = U' diag(σ²) U'ᵀ.
-          Matrix3d basis;
-          for (int axis = 0; axis < 3; ++axis) basis.col(axis) = rotated(error, noise.basis.col(axis));
+          LineOfSightNoise turned = noise;
+          for (int axis = 0; axis < 3; ++axis) turned.basis.col(axis) = rotated(error, noise.basis.col(axis));
+          const Matrix3d& basis = turned.basis;
           const Vector3d displaced = reported_sensor + rotated(error, target - sensor.position);
           Vector3d measured;
           for (int row = 0; row < 3; ++row) {
@@ -401,19 +385,8 @@ SplitResult make_split(const CadOptions& options, const RandomStream& root, std:
                                               basis(row, 1) * (noise.standard_deviations(1) * xi[1]) +
                                               basis(row, 2) * (noise.standard_deviations(2) * xi[2]));
           }
-          Matrix3d covariance;
-          for (int row = 0; row < 3; ++row) {
-            for (int column = 0; column < 3; ++column) {
-              double sum = 0.0;
-              for (int axis = 0; axis < 3; ++axis) {
-                const double variance = noise.standard_deviations(axis) * noise.standard_deviations(axis);
-                sum += variance * (basis(row, axis) * basis(column, axis));  // symmetric bit for bit
-              }
-              covariance(row, column) = sum;
-            }
-          }
           result.split.measurements.push_back({scene, time, view, objects[k],
-                                               Gaussian3::from_covariance(measured, covariance),
+                                               Gaussian3::from_covariance(measured, turned.covariance()),
                                                reported_sensor});
         }
       }
@@ -498,18 +471,16 @@ nlohmann::json options_json(const CadOptions& options) {
 }  // namespace
 
 void validate_cad_options(const CadOptions& options) {
-  if (options.source_directory.empty()) reject("source_directory must not be empty");
-  check_whole("train_instances", options.train_instances, 0);
-  check_whole("val_instances", options.val_instances, 0);
-  check_whole("test_instances", options.test_instances, 0);
-  check_whole("steps", options.steps, 2);
-  check_whole("objects", options.objects, 1);
-  check_whole("max_vehicles", options.max_vehicles, 1);
-  check_whole("min_vehicles", options.min_vehicles, 1);
-  if (options.min_vehicles > options.max_vehicles) {
-    reject(fmt::format("min_vehicles ({}) must not exceed max_vehicles ({})", options.min_vehicles,
-                       options.max_vehicles));
-  }
+  const OptionChecks check("cad benchmark");
+  if (options.source_directory.empty()) check.reject("source_directory must not be empty");
+  check.whole("train_instances", options.train_instances, 0);
+  check.whole("val_instances", options.val_instances, 0);
+  check.whole("test_instances", options.test_instances, 0);
+  check.whole("steps", options.steps, 2);
+  check.whole("objects", options.objects, 1);
+  check.whole("max_vehicles", options.max_vehicles, 1);
+  check.whole("min_vehicles", options.min_vehicles, 1);
+  check.range("min_vehicles", options.min_vehicles, "max_vehicles", options.max_vehicles);
 
   const std::vector<std::string>* lists[] = {&options.train_sequences, &options.val_sequences,
                                              &options.test_sequences};
@@ -517,66 +488,45 @@ void validate_cad_options(const CadOptions& options) {
   std::map<std::string, std::string_view> owner;
   for (std::size_t split = 0; split < 3; ++split) {
     if (instances[split] > 0 && lists[split]->empty()) {
-      reject(fmt::format("{}_sequences must not be empty when {}_instances is {}", kSplitNames[split],
-                         kSplitNames[split], instances[split]));
+      check.reject(fmt::format("{}_sequences must not be empty when {}_instances is {}", kSplitNames[split],
+                               kSplitNames[split], instances[split]));
     }
     for (const std::string& name : *lists[split]) {
       if (name.empty() || name.find_first_of("/\\") != std::string::npos) {
-        reject(fmt::format("{}_sequences has a bad sequence name '{}'", kSplitNames[split], name));
+        check.reject(fmt::format("{}_sequences has a bad sequence name '{}'", kSplitNames[split], name));
       }
       const auto [it, fresh] = owner.emplace(name, kSplitNames[split]);
       if (!fresh) {
-        reject(fmt::format(
+        check.reject(fmt::format(
             "sequence {} is in {}_sequences and {}_sequences: splits must be disjoint by sequence", name,
             it->second, kSplitNames[split]));
       }
     }
   }
 
-  check_real("min_vehicle_speed_m_s", options.min_vehicle_speed_m_s, options.min_vehicle_speed_m_s >= 0.0,
-             "zero or positive");
-  check_real("min_visible_fraction", options.min_visible_fraction,
+  check.not_negative("min_vehicle_speed_m_s", options.min_vehicle_speed_m_s);
+  check.real("min_visible_fraction", options.min_visible_fraction,
              options.min_visible_fraction >= 0.0 && options.min_visible_fraction <= 1.0, "in [0, 1]");
-  check_real("sensor_height_m", options.sensor_height_m, options.sensor_height_m >= 0.0, "zero or positive");
-  check_real("max_range_m", options.max_range_m, options.max_range_m > 0.0, "positive");
-  check_real("field_of_view_deg", options.field_of_view_deg,
+  check.not_negative("sensor_height_m", options.sensor_height_m);
+  check.positive("max_range_m", options.max_range_m);
+  check.real("field_of_view_deg", options.field_of_view_deg,
              options.field_of_view_deg > 0.0 && options.field_of_view_deg <= 360.0, "in (0, 360]");
-  check_real("depth_noise_m", options.depth_noise_m, options.depth_noise_m > 0.0, "positive");
-  check_real("depth_noise_per_m2", options.depth_noise_per_m2, options.depth_noise_per_m2 >= 0.0,
-             "zero or positive");
-  check_real("lateral_angle_noise_rad", options.lateral_angle_noise_rad,
-             options.lateral_angle_noise_rad > 0.0, "positive");
-  check_real("vertical_angle_noise_rad", options.vertical_angle_noise_rad,
-             options.vertical_angle_noise_rad > 0.0, "positive");
-  const auto is_probability = [](double p) { return p >= 0.0 && p <= 1.0; };
-  check_real("detection_probability_near", options.detection_probability_near,
-             is_probability(options.detection_probability_near), "a probability in [0, 1]");
-  check_real("detection_probability_far", options.detection_probability_far,
-             is_probability(options.detection_probability_far) &&
+  check.positive("depth_noise_m", options.depth_noise_m);
+  check.not_negative("depth_noise_per_m2", options.depth_noise_per_m2);
+  check.positive("lateral_angle_noise_rad", options.lateral_angle_noise_rad);
+  check.positive("vertical_angle_noise_rad", options.vertical_angle_noise_rad);
+  check.probability("detection_probability_near", options.detection_probability_near);
+  check.real("detection_probability_far", options.detection_probability_far,
+             options.detection_probability_far >= 0.0 && options.detection_probability_far <= 1.0 &&
                  options.detection_probability_far <= options.detection_probability_near,
              "a probability in [0, detection_probability_near]");
-  check_real("gps_position_error_m", options.gps_position_error_m, options.gps_position_error_m >= 0.0,
-             "zero or positive");
-  check_real("gps_heading_error_deg", options.gps_heading_error_deg, options.gps_heading_error_deg >= 0.0,
-             "zero or positive");
+  check.not_negative("gps_position_error_m", options.gps_position_error_m);
+  check.not_negative("gps_heading_error_deg", options.gps_heading_error_deg);
 }
 
 CadSensorNoise cad_sensor_noise(const CadOptions& options, const Vector3d& sensor, const Vector3d& target) {
-  const Vector3d offset = target - sensor;
-  const double range = std::sqrt(dot3(offset, offset));
-  CadSensorNoise noise;
-  noise.range = range;
-  // u_r; straight down when the object is at the sensor itself (then any basis will do).
-  const Vector3d along = range > 0.0 ? Vector3d(offset / range) : Vector3d(0.0, 0.0, -1.0);
-  const double horizontal = std::sqrt(along.x() * along.x() + along.y() * along.y());
-  const Vector3d across = horizontal > 1e-12 ? Vector3d(-along.y() / horizontal, along.x() / horizontal, 0.0)
-                                             : Vector3d(1.0, 0.0, 0.0);
-  const Vector3d vertical(along.y() * across.z() - along.z() * across.y(),
-                          along.z() * across.x() - along.x() * across.z(),
-                          along.x() * across.y() - along.y() * across.x());  // u_r × u_c
-  noise.basis.col(0) = along;
-  noise.basis.col(1) = across;
-  noise.basis.col(2) = vertical;
+  CadSensorNoise noise = line_of_sight(sensor, target);
+  const double range = noise.range;
   noise.standard_deviations =
       Vector3d(options.depth_noise_m + options.depth_noise_per_m2 * (range * range),
                range * options.lateral_angle_noise_rad, range * options.vertical_angle_noise_rad);
@@ -584,10 +534,8 @@ CadSensorNoise cad_sensor_noise(const CadOptions& options, const Vector3d& senso
 }
 
 double cad_detection_probability(const CadOptions& options, double range_m) {
-  if (!(range_m <= options.max_range_m)) return 0.0;
-  const double fraction = range_m / options.max_range_m;
-  return options.detection_probability_near -
-         (options.detection_probability_near - options.detection_probability_far) * (fraction * fraction);
+  return range_detection_probability(range_m, options.max_range_m, options.detection_probability_near,
+                                     options.detection_probability_far);
 }
 
 Benchmark make_cad_benchmark(const CadOptions& options) {

@@ -67,7 +67,7 @@
 //
 // ── Measurement noise (RGB-D: depth along the line of sight, angles across it) ─────────────────────
 // For the true sensor position s and the true object position p (bottom centre), r = ‖p − s‖ and the
-// line-of-sight basis U = [u_r u_c u_v] (as in synthetic.hpp):
+// line-of-sight basis U = [u_r u_c u_v] (line_of_sight.hpp, as in synthetic.hpp):
 //   u_r = (p − s)/r,   u_c = (−u_r,y, u_r,x, 0)/‖·‖ (horizontal, across),   u_v = u_r × u_c
 //   σ_d = depth_noise_m + depth_noise_per_m2 · r²       (stereo: σ_z = z² σ_disparity / (f·B))
 //   σ_c = r · lateral_angle_noise_rad,   σ_v = r · vertical_angle_noise_rad
@@ -119,6 +119,7 @@
 
 #include "stgf/core/gaussian.hpp"
 #include "stgf/datasets/benchmark_folder.hpp"
+#include "stgf/datasets/line_of_sight.hpp"
 
 namespace stgf {
 
@@ -173,15 +174,11 @@ struct CadOptions {
 void validate_cad_options(const CadOptions& options);
 
 // The sensor noise for a true sensor position and a true object position (see the header comment,
-// without the GPS rotation): U, (σ_d, σ_c, σ_v) and r.
-struct CadSensorNoise {
-  Matrix3d basis;                // U = [u_r u_c u_v]
-  Vector3d standard_deviations;  // (σ_d, σ_c, σ_v)
-  double range = 0.0;            // r (m)
-};
+// without the GPS rotation): U, (σ_d, σ_c, σ_v) and r (line_of_sight.hpp).
+using CadSensorNoise = LineOfSightNoise;
 CadSensorNoise cad_sensor_noise(const CadOptions& options, const Vector3d& sensor, const Vector3d& target);
 
-// P_d(range): 0 beyond max_range_m.
+// P_d(range): 0 beyond max_range_m (range_detection_probability with these options).
 double cad_detection_probability(const CadOptions& options, double range_m);
 
 // The whole benchmark from the KITTI files in options.source_directory. Validates the options;

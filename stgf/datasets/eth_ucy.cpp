@@ -2,7 +2,6 @@
 
 #include <fmt/format.h>
 
-#include <charconv>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -10,24 +9,11 @@
 #include <stdexcept>
 #include <utility>
 
+#include "stgf/datasets/text_input.hpp"
 #include "stgf/io/input_error.hpp"
 
 namespace stgf {
 namespace {
-
-// The fields of one line, split at runs of spaces and tabs (a trailing '\r' counts as a separator).
-std::vector<std::string_view> split_fields(std::string_view line) {
-  std::vector<std::string_view> fields;
-  const auto is_separator = [](char c) { return c == ' ' || c == '\t' || c == '\r'; };
-  std::size_t position = 0;
-  while (position < line.size()) {
-    while (position < line.size() && is_separator(line[position])) ++position;
-    const std::size_t start = position;
-    while (position < line.size() && !is_separator(line[position])) ++position;
-    if (position > start) fields.push_back(line.substr(start, position - start));
-  }
-  return fields;
-}
 
 class LineReader {
  public:
@@ -37,12 +23,10 @@ class LineReader {
 
   // The whole field as a finite decimal number.
   double number(std::string_view field, std::string_view what) const {
-    double value = 0.0;
-    const char* end = field.data() + field.size();
-    const auto [stop, error] = std::from_chars(field.data(), end, value);
-    if (error != std::errc() || stop != end) fail(fmt::format("{} is not a number: '{}'", what, field));
-    if (!std::isfinite(value)) fail(fmt::format("{} is not finite: '{}'", what, field));
-    return value;
+    const std::optional<double> value = parse_number(field);
+    if (!value) fail(fmt::format("{} is not a number: '{}'", what, field));
+    if (!std::isfinite(*value)) fail(fmt::format("{} is not finite: '{}'", what, field));
+    return *value;
   }
 
   // The field as a whole number (written as an integer or as a float with no fraction, "780.0").
@@ -71,7 +55,8 @@ Recording parse_eth_ucy(std::istream& text, const std::string& file_name, const 
   int line_number = 0;
   while (std::getline(text, line)) {
     ++line_number;
-    const std::vector<std::string_view> fields = split_fields(line);
+    // Fields at runs of spaces and tabs (a trailing '\r' counts as a separator).
+    const std::vector<std::string_view> fields = split_fields(line, " \t\r");
     if (fields.empty()) continue;
     const LineReader reader(file_name, line_number);
     if (fields.size() != 4) {
@@ -112,8 +97,7 @@ std::string eth_ucy_short_name(std::string_view recording_name) {
 }
 
 Recording read_eth_ucy_file(const std::string& path, int frame_step) {
-  std::ifstream in(path);
-  if (!in) throw InputError(path, 0, "cannot open the file");
+  std::ifstream in = open_text_file(path);
   const std::string name = std::filesystem::path(path).stem().string();
   return parse_eth_ucy(in, path, name, eth_ucy_short_name(name), frame_step);
 }

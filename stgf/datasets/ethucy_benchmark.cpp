@@ -7,56 +7,21 @@
 #include <limits>
 #include <set>
 #include <stdexcept>
-#include <string_view>
 #include <utility>
 
 #include "stgf/datasets/gaussian_noise.hpp"
+#include "stgf/datasets/option_checks.hpp"
 #include "stgf/datasets/random.hpp"
+#include "stgf/datasets/view_noise_options.hpp"
 
-// Keep a·b + c as two rounded operations on every compiler (see datasets/random.hpp).
-#if defined(__clang__)
-#pragma STDC FP_CONTRACT OFF
-#elif defined(__GNUC__)
-#pragma GCC optimize("fp-contract=off")  // GCC ignores the standard pragma in C++
-#endif
+// last: applies to this file's functions only
+#include "stgf/datasets/fp_contract_off.hpp"
 
 namespace stgf {
 namespace {
 
 constexpr double kTwoPi = 2.0 * portable::kPi;
 constexpr double kSquareRootOfTwo = 1.4142135623730950488;
-
-// ── Checking the options ──
-
-class OptionChecker {
- public:
-  void whole(std::string_view name, int value, int minimum) const {
-    if (value < minimum) {
-      throw std::invalid_argument(
-          fmt::format("ethucy benchmark: {} must be at least {} (got {})", name, minimum, value));
-    }
-  }
-  // `holds` is the rule evaluated on the value; NaN and infinity always fail.
-  void real(std::string_view name, double value, bool holds, std::string_view rule) const {
-    if (!std::isfinite(value) || !holds) {
-      throw std::invalid_argument(fmt::format("ethucy benchmark: {} must be {} (got {})", name, rule, value));
-    }
-  }
-  void positive(std::string_view name, double value) const { real(name, value, value > 0.0, "positive"); }
-  void not_negative(std::string_view name, double value) const {
-    real(name, value, value >= 0.0, "zero or positive");
-  }
-  void probability(std::string_view name, double value) const {
-    real(name, value, value >= 0.0 && value <= 1.0, "a probability in [0, 1]");
-  }
-  template <typename Number>
-  void range(std::string_view low_name, Number low, std::string_view high_name, Number high) const {
-    if (!(low <= high)) {
-      throw std::invalid_argument(
-          fmt::format("ethucy benchmark: {} ({}) must not exceed {} ({})", low_name, low, high_name, high));
-    }
-  }
-};
 
 // The line-of-sight noise and miss model of synthetic.hpp with this benchmark's parameters (only the
 // members line_of_sight_noise and detection_probability read are set).
@@ -189,7 +154,7 @@ void add_instance(const InstanceContext& context, const Recording& recording,
 // ── Description ──
 
 nlohmann::json options_json(const EthUcyOptions& options) {
-  return {
+  nlohmann::json described = {
       {"seed", options.seed},
       {"source_directory", options.source_directory},
       {"test_scene", options.test_scene},
@@ -203,22 +168,10 @@ nlohmann::json options_json(const EthUcyOptions& options) {
       {"views", options.views},
       {"min_view_standoff_m", options.min_view_standoff_m},
       {"max_view_standoff_m", options.max_view_standoff_m},
-      {"view_angle_jitter_rad", options.view_angle_jitter_rad},
-      {"min_sensor_height_m", options.min_sensor_height_m},
-      {"max_sensor_height_m", options.max_sensor_height_m},
-      {"min_noise_scale", options.min_noise_scale},
-      {"max_noise_scale", options.max_noise_scale},
-      {"range_noise_m", options.range_noise_m},
-      {"range_noise_per_m2", options.range_noise_per_m2},
-      {"cross_noise_m", options.cross_noise_m},
-      {"cross_noise_per_m", options.cross_noise_per_m},
-      {"vertical_noise_m", options.vertical_noise_m},
-      {"vertical_noise_per_m", options.vertical_noise_per_m},
-      {"max_range_m", options.max_range_m},
-      {"detection_probability_near", options.detection_probability_near},
-      {"detection_probability_far", options.detection_probability_far},
       {"registration_bias_m", options.registration_bias_m},
   };
+  described.update(view_noise_options_json(options));
+  return described;
 }
 
 nlohmann::json scene_table_json() {
@@ -236,13 +189,6 @@ nlohmann::json recording_json(const EthUcyFile& file, const std::string& role, c
     rows += objects.size();
     for (const auto& [id, position] : objects) pedestrians.insert(id);
   }
-  nlohmann::json cameras = nlohmann::json::array();
-  for (const SyntheticView& view : views) {
-    cameras.push_back(
-        {{"id", view.id},
-         {"sensor_position", {view.sensor_position.x(), view.sensor_position.y(), view.sensor_position.z()}},
-         {"noise_scale", view.noise_scale}});
-  }
   return {
       {"name", recording.name},
       {"file", file.file_name},
@@ -255,7 +201,7 @@ nlohmann::json recording_json(const EthUcyFile& file, const std::string& role, c
       {"first_frame", recording.frames.begin()->first},
       {"last_frame", recording.frames.rbegin()->first},
       {"bounding_box_m", {{"x", {box.x_min, box.x_max}}, {"y", {box.y_min, box.y_max}}}},
-      {"views", cameras},
+      {"views", describe_synthetic_views(views)},
   };
 }
 
@@ -292,14 +238,13 @@ constexpr const char* kWindowRule =
 }  // namespace
 
 void validate_ethucy_options(const EthUcyOptions& options) {
-  const OptionChecker check;
+  const OptionChecks check("ethucy benchmark");
   bool known_scene = false;
   for (const EthUcyScene& scene : eth_ucy_scenes())
     known_scene = known_scene || scene.name == options.test_scene;
   if (!known_scene) {
-    throw std::invalid_argument(
-        fmt::format("ethucy benchmark: test_scene must be one of eth, hotel, univ, zara1, zara2 (got '{}')",
-                    options.test_scene));
+    check.reject(fmt::format("test_scene must be one of eth, hotel, univ, zara1, zara2 (got '{}')",
+                             options.test_scene));
   }
   check.whole("train_instances", options.train_instances, 0);
   check.whole("val_instances", options.val_instances, 0);
@@ -316,27 +261,7 @@ void validate_ethucy_options(const EthUcyOptions& options) {
   check.not_negative("max_view_standoff_m", options.max_view_standoff_m);
   check.range("min_view_standoff_m", options.min_view_standoff_m, "max_view_standoff_m",
               options.max_view_standoff_m);
-  check.not_negative("view_angle_jitter_rad", options.view_angle_jitter_rad);
-  check.not_negative("min_sensor_height_m", options.min_sensor_height_m);
-  check.not_negative("max_sensor_height_m", options.max_sensor_height_m);
-  check.range("min_sensor_height_m", options.min_sensor_height_m, "max_sensor_height_m",
-              options.max_sensor_height_m);
-  check.positive("min_noise_scale", options.min_noise_scale);
-  check.positive("max_noise_scale", options.max_noise_scale);
-  check.range("min_noise_scale", options.min_noise_scale, "max_noise_scale", options.max_noise_scale);
-
-  check.positive("range_noise_m", options.range_noise_m);
-  check.not_negative("range_noise_per_m2", options.range_noise_per_m2);
-  check.positive("cross_noise_m", options.cross_noise_m);
-  check.not_negative("cross_noise_per_m", options.cross_noise_per_m);
-  check.positive("vertical_noise_m", options.vertical_noise_m);
-  check.not_negative("vertical_noise_per_m", options.vertical_noise_per_m);
-
-  check.positive("max_range_m", options.max_range_m);
-  check.probability("detection_probability_near", options.detection_probability_near);
-  check.probability("detection_probability_far", options.detection_probability_far);
-  check.range("detection_probability_far", options.detection_probability_far, "detection_probability_near",
-              options.detection_probability_near);
+  check_view_noise_options(check, options);
   check.not_negative("registration_bias_m", options.registration_bias_m);
 }
 

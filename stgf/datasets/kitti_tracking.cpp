@@ -3,7 +3,6 @@
 #include <fmt/format.h>
 
 #include <algorithm>
-#include <charconv>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -14,15 +13,11 @@
 #include <utility>
 
 #include "stgf/datasets/random.hpp"
+#include "stgf/datasets/text_input.hpp"
 #include "stgf/io/input_error.hpp"
 
-// Keep a·b + c as two rounded operations (see synthetic.cpp): the world positions must be the same
-// bits on machines with and without fused multiply-add.
-#if defined(__clang__)
-#pragma STDC FP_CONTRACT OFF
-#elif defined(__GNUC__)
-#pragma GCC optimize("fp-contract=off")
-#endif
+// last: applies to this file's functions only
+#include "stgf/datasets/fp_contract_off.hpp"
 
 namespace stgf {
 namespace {
@@ -32,59 +27,23 @@ constexpr double kPi = portable::kPi;
 
 // ── Reading lines and fields ──
 
-// Opens `path` for reading; InputError (line 0) when it cannot.
-std::ifstream open_input(const std::string& path) {
-  std::ifstream input(path);
-  if (!input) throw InputError(path, 0, "cannot open the file");
-  return input;
-}
-
-// The next line without its line end (LF or CRLF); false at the end.
-bool next_line(std::istream& input, std::string& line, int& line_number) {
-  if (!std::getline(input, line)) return false;
-  ++line_number;
-  if (!line.empty() && line.back() == '\r') line.pop_back();
-  return true;
-}
-
-// Fields separated by blanks (spaces and tabs).
-std::vector<std::string_view> split_fields(std::string_view line) {
-  std::vector<std::string_view> fields;
-  std::size_t position = 0;
-  while (position < line.size()) {
-    while (position < line.size() && (line[position] == ' ' || line[position] == '\t')) ++position;
-    const std::size_t start = position;
-    while (position < line.size() && line[position] != ' ' && line[position] != '\t') ++position;
-    if (position > start) fields.push_back(line.substr(start, position - start));
-  }
-  return fields;
-}
-
 // Parses one field of `path`:`line`; `what` names it in the message.
 class FieldParser {
  public:
   FieldParser(const std::string& path, int line) : path_(path), line_(line) {}
 
+  int line() const { return line_; }
+
   double number(std::string_view field, std::string_view what) const {
-    std::string_view text = field;
-    if (!text.empty() && text.front() == '+') text.remove_prefix(1);
-    double value = 0.0;
-    const auto [end, error] = std::from_chars(text.data(), text.data() + text.size(), value);
-    if (error != std::errc() || end != text.data() + text.size() || !std::isfinite(value)) {
-      fail(fmt::format("{} '{}' is not a finite number", what, field));
-    }
-    return value;
+    const std::optional<double> value = parse_finite_number(field);
+    if (!value) fail(fmt::format("{} '{}' is not a finite number", what, field));
+    return *value;
   }
 
   int integer(std::string_view field, std::string_view what) const {
-    std::string_view text = field;
-    if (!text.empty() && text.front() == '+') text.remove_prefix(1);
-    int value = 0;
-    const auto [end, error] = std::from_chars(text.data(), text.data() + text.size(), value);
-    if (error != std::errc() || end != text.data() + text.size()) {
-      fail(fmt::format("{} '{}' is not an integer", what, field));
-    }
-    return value;
+    const std::optional<int> value = parse_integer(field);
+    if (!value) fail(fmt::format("{} '{}' is not an integer", what, field));
+    return *value;
   }
 
   [[noreturn]] void fail(const std::string& what) const { throw InputError(path_, line_, what); }
@@ -93,6 +52,23 @@ class FieldParser {
   const std::string& path_;
   int line_;
 };
+
+// Calls row(fields, parse) for every line of `path` that has fields (separated by spaces and tabs;
+// the line end is LF or CRLF), with `parse` located at that line. InputError (line 0) when the file
+// cannot be opened.
+template <typename Row>
+void for_each_row(const std::string& path, Row row) {
+  std::ifstream input = open_text_file(path);
+  std::string line;
+  int line_number = 0;
+  while (std::getline(input, line)) {
+    ++line_number;
+    if (!line.empty() && line.back() == '\r') line.pop_back();
+    const std::vector<std::string_view> fields = split_fields(line, " \t");
+    if (fields.empty()) continue;
+    row(fields, FieldParser(path, line_number));
+  }
+}
 
 // ── Small matrix arithmetic in a fixed order ──
 
@@ -225,15 +201,9 @@ AffineTransform3 inverse(const AffineTransform3& transform) {
 // ── Labels ──
 
 KittiLabelFile read_kitti_labels(const std::string& path) {
-  std::ifstream input = open_input(path);
   KittiLabelFile file;
   std::set<std::pair<int, int>> seen;  // (frame, track_id)
-  std::string line;
-  int line_number = 0;
-  while (next_line(input, line, line_number)) {
-    const std::vector<std::string_view> fields = split_fields(line);
-    if (fields.empty()) continue;
-    const FieldParser parse(path, line_number);
+  for_each_row(path, [&](const std::vector<std::string_view>& fields, const FieldParser& parse) {
     if (fields.size() != 17) {
       parse.fail(
           fmt::format("expected 17 values (frame track_id type truncated occluded alpha bbox×4 h w l x y z "
@@ -241,14 +211,14 @@ KittiLabelFile read_kitti_labels(const std::string& path) {
                       fields.size()));
     }
     KittiLabel label;
-    label.line = line_number;
+    label.line = parse.line();
     label.frame = parse.integer(fields[0], "frame");
     if (label.frame < 0) parse.fail(fmt::format("frame {} is negative", label.frame));
     label.track_id = parse.integer(fields[1], "track_id");
     label.type = std::string(fields[2]);
     if (label.type == kDontCare) {
       ++file.dont_care_rows;
-      continue;
+      return;
     }
     if (known_types().count(label.type) == 0) {
       parse.fail(
@@ -279,26 +249,20 @@ KittiLabelFile read_kitti_labels(const std::string& path) {
       parse.fail(fmt::format("a second box for track {} in frame {}", label.track_id, label.frame));
     }
     file.labels.push_back(std::move(label));
-  }
+  });
   return file;
 }
 
 // ── Oxts ──
 
 std::vector<KittiOxts> read_kitti_oxts(const std::string& path) {
-  std::ifstream input = open_input(path);
   std::vector<KittiOxts> rows;
-  std::string line;
-  int line_number = 0;
-  while (next_line(input, line, line_number)) {
-    const std::vector<std::string_view> fields = split_fields(line);
-    if (fields.empty()) continue;
-    const FieldParser parse(path, line_number);
+  for_each_row(path, [&](const std::vector<std::string_view>& fields, const FieldParser& parse) {
     if (fields.size() != 30) {
       parse.fail(fmt::format("expected 30 values (lat lon alt roll pitch yaw ...), found {}", fields.size()));
     }
     KittiOxts row;
-    row.line = line_number;
+    row.line = parse.line();
     for (std::size_t k = 0; k < 30; ++k)
       row.values[k] = parse.number(fields[k], fmt::format("value {}", k + 1));
     row.latitude_deg = row.values[0];
@@ -314,7 +278,7 @@ std::vector<KittiOxts> read_kitti_oxts(const std::string& path) {
       parse.fail(fmt::format("longitude {} is outside [-180, 180]", row.longitude_deg));
     }
     rows.push_back(row);
-  }
+  });
   if (rows.empty()) throw InputError(path, 0, "no oxts rows");
   return rows;
 }
@@ -342,18 +306,12 @@ AffineTransform3 KittiCalibration::camera_to_imu() const {
 }
 
 KittiCalibration read_kitti_calibration(const std::string& path) {
-  std::ifstream input = open_input(path);
   std::map<std::string_view, std::vector<double>> found;  // canonical key → values
-  std::string line;
-  int line_number = 0;
-  while (next_line(input, line, line_number)) {
-    const std::vector<std::string_view> fields = split_fields(line);
-    if (fields.empty()) continue;
-    const FieldParser parse(path, line_number);
+  for_each_row(path, [&](const std::vector<std::string_view>& fields, const FieldParser& parse) {
     std::string_view key = fields[0];
     if (!key.empty() && key.back() == ':') key.remove_suffix(1);
     const CalibrationKey* known = calibration_key(key);
-    if (known == nullptr) continue;
+    if (known == nullptr) return;
     if (static_cast<int>(fields.size()) - 1 != known->values) {
       parse.fail(fmt::format("{} needs {} values, found {}", key, known->values, fields.size() - 1));
     }
@@ -364,7 +322,7 @@ KittiCalibration read_kitti_calibration(const std::string& path) {
       values.push_back(parse.number(fields[k], fmt::format("{} value {}", key, k)));
     }
     found.emplace(known->canonical, std::move(values));
-  }
+  });
   for (const std::string_view key : {"P0", "P1", "P2", "P3", "R_rect", "Tr_velo_cam", "Tr_imu_velo"}) {
     if (found.count(key) == 0) throw InputError(path, 0, fmt::format("missing {}", key));
   }

@@ -3,35 +3,24 @@
 #include <fmt/format.h>
 
 #include <algorithm>
-#include <cmath>
 #include <filesystem>
 #include <map>
 #include <set>
 #include <stdexcept>
-#include <string_view>
 #include <utility>
 
+#include "stgf/datasets/option_checks.hpp"
 #include "stgf/datasets/pets2009.hpp"
 #include "stgf/datasets/random.hpp"
+#include "stgf/datasets/text_input.hpp"
 
-// Same seed, same bytes on every machine (see synthetic.cpp): no fused multiply-add contractions,
-// products written out in a fixed order, one random draw per statement.
-#if defined(__clang__)
-#pragma STDC FP_CONTRACT OFF
-#elif defined(__GNUC__)
-#pragma GCC optimize("fp-contract=off")
-#endif
+// last: applies to this file's functions only
+#include "stgf/datasets/fp_contract_off.hpp"
 
 namespace stgf {
 namespace {
 
 constexpr double kRadiansPerDegree = portable::kPi / 180.0;
-
-void check_option(bool holds, std::string_view name, std::string_view rule, double value) {
-  if (!holds || !std::isfinite(value)) {
-    throw std::invalid_argument(fmt::format("mpl benchmark: {} must be {} (got {})", name, rule, value));
-  }
-}
 
 std::vector<int> sorted_views(const MplOptions& options) {
   std::vector<int> views = options.views;
@@ -39,21 +28,13 @@ std::vector<int> sorted_views(const MplOptions& options) {
   return views;
 }
 
-// 64-bit FNV-1a of a file's bytes: identifies the exact source data in the description.
-std::string fnv1a64_hex(std::string_view bytes) {
-  std::uint64_t hash = 14695981039346656037ULL;
-  for (const char byte : bytes) {
-    hash ^= static_cast<unsigned char>(byte);
-    hash *= 1099511628211ULL;
-  }
-  return fmt::format("{:016x}", hash);
-}
-
+// A source file's name within the source folder, size and 64-bit FNV-1a: identifies the exact
+// source data in the description.
 nlohmann::json file_json(const std::string& path, const std::string& source_directory) {
-  const std::string bytes = xml_input::read_whole_file(path);
+  const std::string bytes = read_whole_file(path);
   return {{"file", std::filesystem::path(path).lexically_relative(source_directory).generic_string()},
           {"bytes", bytes.size()},
-          {"fnv1a64", fnv1a64_hex(bytes)}};
+          {"fnv1a64", fmt::format("{:016x}", fnv1a64(bytes))}};
 }
 
 // ── One split ──
@@ -294,41 +275,29 @@ nlohmann::json describe(const MplOptions& options, const MplSource& source,
 }  // namespace
 
 void validate_mpl_options(const MplOptions& options) {
-  const auto whole = [](std::string_view name, int value, int minimum) {
-    if (value < minimum) {
-      throw std::invalid_argument(
-          fmt::format("mpl benchmark: {} must be at least {} (got {})", name, minimum, value));
-    }
-  };
-  whole("train_instances", options.train_instances, 0);
-  whole("val_instances", options.val_instances, 0);
-  whole("test_instances", options.test_instances, 0);
+  const OptionChecks check("mpl benchmark");
+  check.whole("train_instances", options.train_instances, 0);
+  check.whole("val_instances", options.val_instances, 0);
+  check.whole("test_instances", options.test_instances, 0);
   if (static_cast<long long>(options.train_instances) + options.val_instances + options.test_instances < 1) {
-    throw std::invalid_argument("mpl benchmark: at least one of train, val and test needs instances");
+    check.reject("at least one of train, val and test needs instances");
   }
-  whole("steps", options.steps, 1);
-  whole("pedestrians", options.pedestrians, 1);
-  if (options.views.empty())
-    throw std::invalid_argument("mpl benchmark: views must name at least one camera");
+  check.whole("steps", options.steps, 1);
+  check.whole("pedestrians", options.pedestrians, 1);
+  if (options.views.empty()) check.reject("views must name at least one camera");
   std::set<int> seen;
   for (const int view : options.views) {
     if (view < 1 || view > 8) {
-      throw std::invalid_argument(
-          fmt::format("mpl benchmark: view {} does not exist (PETS 2009 has views 1 to 8)", view));
+      check.reject(fmt::format("view {} does not exist (PETS 2009 has views 1 to 8)", view));
     }
-    if (!seen.insert(view).second)
-      throw std::invalid_argument(fmt::format("mpl benchmark: view {} is listed twice", view));
+    if (!seen.insert(view).second) check.reject(fmt::format("view {} is listed twice", view));
   }
-  check_option(options.pixel_noise_u_px > 0.0, "pixel_noise_u_px", "positive", options.pixel_noise_u_px);
-  check_option(options.pixel_noise_v_px > 0.0, "pixel_noise_v_px", "positive", options.pixel_noise_v_px);
-  check_option(options.ground_height_noise_m > 0.0, "ground_height_noise_m", "positive",
-               options.ground_height_noise_m);
-  check_option(options.detection_probability >= 0.0 && options.detection_probability <= 1.0,
-               "detection_probability", "a probability in [0, 1]", options.detection_probability);
-  check_option(options.calibration_rotation_error_deg >= 0.0, "calibration_rotation_error_deg",
-               "zero or positive", options.calibration_rotation_error_deg);
-  check_option(options.calibration_translation_error_m >= 0.0, "calibration_translation_error_m",
-               "zero or positive", options.calibration_translation_error_m);
+  check.positive("pixel_noise_u_px", options.pixel_noise_u_px);
+  check.positive("pixel_noise_v_px", options.pixel_noise_v_px);
+  check.positive("ground_height_noise_m", options.ground_height_noise_m);
+  check.probability("detection_probability", options.detection_probability);
+  check.not_negative("calibration_rotation_error_deg", options.calibration_rotation_error_deg);
+  check.not_negative("calibration_translation_error_m", options.calibration_translation_error_m);
 }
 
 MplSource read_mpl_source(const MplOptions& options) {

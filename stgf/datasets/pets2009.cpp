@@ -5,63 +5,32 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
-#include <pugixml.hpp>
 #include <set>
 #include <utility>
 
+#include "stgf/datasets/xml_file.hpp"
 #include "stgf/io/input_error.hpp"
 
-#if defined(__clang__)
-#pragma STDC FP_CONTRACT OFF
-#elif defined(__GNUC__)
-#pragma GCC optimize("fp-contract=off")
-#endif
+// last: applies to this file's functions only
+#include "stgf/datasets/fp_contract_off.hpp"
 
 namespace stgf {
 namespace {
 
 // The parsed annotation file and the line numbers of its elements.
-class AnnotationFile {
+class AnnotationFile : public XmlFile {
  public:
-  explicit AnnotationFile(std::string path)
-      : path_(std::move(path)), text_(xml_input::read_whole_file(path_)), lines_(text_) {
-    const pugi::xml_parse_result parsed = document_.load_buffer(text_.data(), text_.size());
-    if (!parsed) {
-      throw InputError(path_, lines_.line_at(parsed.offset),
-                       fmt::format("not well-formed XML: {}", parsed.description()));
-    }
-    dataset_ = document_.child("dataset");
-    if (!dataset_) throw InputError(path_, 0, "no <dataset> element at the top level");
-  }
-
-  const std::string& path() const { return path_; }
-  const pugi::xml_node& dataset() const { return dataset_; }
-  int line(const pugi::xml_node& node) const { return lines_.line_at(node.offset_debug()); }
-
-  [[noreturn]] void fail(const pugi::xml_node& node, const std::string& what) const {
-    throw InputError(path_, line(node), what);
-  }
+  explicit AnnotationFile(const std::string& path) : XmlFile(path, "dataset") {}
 
   // A frame's number: a whole number ≥ 0.
   int frame_number(const pugi::xml_node& frame) const {
     const pugi::xml_attribute attribute = frame.attribute("number");
     if (!attribute) fail(frame, "<frame> has no attribute number");
-    const std::optional<double> value = xml_input::parse_finite_number(attribute.value());
+    const std::optional<double> value = parse_attribute_number(attribute.value());
     if (!value || *value < 0.0 || *value != std::floor(*value) || *value > 1e9) {
       fail(frame, fmt::format("<frame> number=\"{}\" is not a whole number >= 0", attribute.value()));
     }
     return static_cast<int>(*value);
-  }
-
-  double number(const pugi::xml_node& element, const char* name) const {
-    const pugi::xml_attribute attribute = element.attribute(name);
-    if (!attribute) fail(element, fmt::format("<{}> has no attribute {}", element.name(), name));
-    const std::optional<double> value = xml_input::parse_finite_number(attribute.value());
-    if (!value) {
-      fail(element, fmt::format("<{}> attribute {}=\"{}\" is not a finite number", element.name(), name,
-                                attribute.value()));
-    }
-    return *value;
   }
 
   double size(const pugi::xml_node& element, const char* name) const {
@@ -77,20 +46,13 @@ class AnnotationFile {
   std::vector<std::pair<int, pugi::xml_node>> frames() const {
     std::vector<std::pair<int, pugi::xml_node>> frames;
     std::set<int> seen;
-    for (const pugi::xml_node& frame : dataset_.children("frame")) {
+    for (const pugi::xml_node& frame : top().children("frame")) {
       const int number = frame_number(frame);
       if (!seen.insert(number).second) fail(frame, fmt::format("frame {} appears a second time", number));
       frames.emplace_back(number, frame);
     }
     return frames;
   }
-
- private:
-  std::string path_;
-  std::string text_;
-  xml_input::LineIndex lines_;
-  pugi::xml_document document_;
-  pugi::xml_node dataset_;
 };
 
 }  // namespace

@@ -3,12 +3,8 @@
 #include <cmath>
 #include <limits>
 
-// Keep a·b + c as two rounded operations on every compiler (see the header).
-#if defined(__clang__)
-#pragma STDC FP_CONTRACT OFF
-#elif defined(__GNUC__)
-#pragma GCC optimize("fp-contract=off")  // GCC ignores the standard pragma in C++
-#endif
+// last: applies to this file's functions only
+#include "stgf/datasets/fp_contract_off.hpp"
 
 namespace stgf {
 namespace {
@@ -16,16 +12,6 @@ namespace {
 // Domain separators, so that a label whose hash equals some index still gives a different child.
 constexpr std::uint64_t kLabelDomain = 0x6c6162656c000001ULL;
 constexpr std::uint64_t kIndexDomain = 0x696e646578000002ULL;
-
-// 64-bit FNV-1a of the bytes of `text`.
-std::uint64_t hash_label(std::string_view text) {
-  std::uint64_t hash = 14695981039346656037ULL;
-  for (const char character : text) {
-    hash ^= static_cast<unsigned char>(character);
-    hash *= 1099511628211ULL;
-  }
-  return hash;
-}
 
 std::uint64_t derive_key(std::uint64_t parent_key, std::uint64_t tag) {
   return splitmix64(splitmix64(parent_key) ^ splitmix64(tag));
@@ -68,10 +54,19 @@ std::uint64_t splitmix64(std::uint64_t value) {
   return mixed ^ (mixed >> 31);
 }
 
+std::uint64_t fnv1a64(std::string_view bytes) {
+  std::uint64_t hash = 14695981039346656037ULL;
+  for (const char byte : bytes) {
+    hash ^= static_cast<unsigned char>(byte);
+    hash *= 1099511628211ULL;
+  }
+  return hash;
+}
+
 RandomStream::RandomStream(std::uint64_t key) : key_(key), engine_(splitmix64(key)) {}
 
 RandomStream RandomStream::child(std::string_view label) const {
-  return RandomStream(derive_key(key_, hash_label(label) ^ kLabelDomain));
+  return RandomStream(derive_key(key_, fnv1a64(label) ^ kLabelDomain));
 }
 
 RandomStream RandomStream::child(std::uint64_t index) const {

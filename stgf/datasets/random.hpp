@@ -25,7 +25,8 @@
 //
 // Floating-point contraction (a·b + c → one fused multiply-add) would change results between
 // machines with and without FMA; the .cpp files of this layer turn it off with a pragma (Clang's
-// STDC FP_CONTRACT, GCC's optimize("fp-contract=off"), since GCC contracts by default in C++).
+// STDC FP_CONTRACT, GCC's optimize("fp-contract=off"), since GCC contracts by default in C++),
+// included from fp_contract_off.hpp.
 
 #include <cstdint>
 #include <optional>
@@ -59,6 +60,9 @@ class RandomStream {
 
 // The splitmix64 finaliser: a bijective 64-bit mix in which every input bit affects every output bit.
 std::uint64_t splitmix64(std::uint64_t value);
+
+// 64-bit FNV-1a of `bytes`: hashes the labels of child streams, and identifies source files.
+std::uint64_t fnv1a64(std::string_view bytes);
 
 // Elementary functions built only from + − × ÷, sqrt and exact power-of-two scaling, so that they
 // return the same bits on every IEEE 754 platform. Accurate to a few units in the last place, which

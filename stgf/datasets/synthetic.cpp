@@ -4,57 +4,20 @@
 
 #include <algorithm>
 #include <cmath>
-#include <stdexcept>
 #include <string_view>
 #include <utility>
 
+#include "stgf/datasets/option_checks.hpp"
 #include "stgf/datasets/random.hpp"
+#include "stgf/datasets/view_noise_options.hpp"
 
-// Keep a·b + c as two rounded operations on every compiler, so that files are byte-identical on
-// machines with and without FMA (GCC and Clang contract into fused multiply-adds by default when
-// FMA is enabled, e.g. with -march=native). For the same reason the arithmetic below spells out its
-// dot products and matrix products instead of leaving the order of summation to vectorised library
-// code, and draws one random number per statement (argument evaluation order is unspecified).
-// Checked: GCC 12 -O0, -O3, -O3 -march=native and Clang 14 -O2 -march=native write identical files.
-#if defined(__clang__)
-#pragma STDC FP_CONTRACT OFF
-#elif defined(__GNUC__)
-#pragma GCC optimize("fp-contract=off")  // GCC ignores the standard pragma in C++
-#endif
+// last: applies to this file's functions only
+#include "stgf/datasets/fp_contract_off.hpp"
 
 namespace stgf {
 namespace {
 
 constexpr double kTwoPi = 2.0 * portable::kPi;
-
-// ── Checking the options ──
-
-class OptionChecker {
- public:
-  void whole(std::string_view name, int value, int minimum) const {
-    if (value < minimum) {
-      throw std::invalid_argument(
-          fmt::format("synthetic benchmark: {} must be at least {} (got {})", name, minimum, value));
-    }
-  }
-  // `holds` is the rule evaluated on the value; NaN and infinity always fail.
-  void real(std::string_view name, double value, bool holds, std::string_view rule) const {
-    if (!std::isfinite(value) || !holds) {
-      throw std::invalid_argument(
-          fmt::format("synthetic benchmark: {} must be {} (got {})", name, rule, value));
-    }
-  }
-  void positive(std::string_view name, double value) const { real(name, value, value > 0.0, "positive"); }
-  void not_negative(std::string_view name, double value) const {
-    real(name, value, value >= 0.0, "zero or positive");
-  }
-  void range(std::string_view low_name, double low, std::string_view high_name, double high) const {
-    if (!(low <= high)) {
-      throw std::invalid_argument(fmt::format("synthetic benchmark: {} ({}) must not exceed {} ({})",
-                                              low_name, low, high_name, high));
-    }
-  }
-};
 
 // ── Small deterministic vector arithmetic (sums in a fixed order) ──
 
@@ -68,8 +31,6 @@ Planar operator*(double k, Planar a) { return {k * a.x, k * a.y}; }
 double dot(Planar a, Planar b) { return a.x * b.x + a.y * b.y; }
 double cross(Planar a, Planar b) { return a.x * b.y - a.y * b.x; }
 double length(Planar a) { return std::sqrt(dot(a, a)); }
-
-double dot3(const Vector3d& a, const Vector3d& b) { return a.x() * b.x() + a.y() * b.y() + a.z() * b.z(); }
 
 // (cos θ x − sin θ y, sin θ x + cos θ y), written with + only: GCC 12 fuses the mixed −/+ pair into
 // one fused multiply-add-subtract when FMA is available even with contraction off.
@@ -311,7 +272,7 @@ BenchmarkSplit make_split(const SyntheticOptions& options, std::span<const Synth
 }
 
 nlohmann::json options_json(const SyntheticOptions& options) {
-  return {
+  nlohmann::json described = {
       {"seed", options.seed},
       {"objects", options.objects},
       {"views", options.views},
@@ -335,27 +296,15 @@ nlohmann::json options_json(const SyntheticOptions& options) {
       {"max_substep_s", options.max_substep_s},
       {"view_ring_radius_m", options.view_ring_radius_m},
       {"view_ring_jitter_m", options.view_ring_jitter_m},
-      {"view_angle_jitter_rad", options.view_angle_jitter_rad},
-      {"min_sensor_height_m", options.min_sensor_height_m},
-      {"max_sensor_height_m", options.max_sensor_height_m},
-      {"min_noise_scale", options.min_noise_scale},
-      {"max_noise_scale", options.max_noise_scale},
-      {"range_noise_m", options.range_noise_m},
-      {"range_noise_per_m2", options.range_noise_per_m2},
-      {"cross_noise_m", options.cross_noise_m},
-      {"cross_noise_per_m", options.cross_noise_per_m},
-      {"vertical_noise_m", options.vertical_noise_m},
-      {"vertical_noise_per_m", options.vertical_noise_per_m},
-      {"max_range_m", options.max_range_m},
-      {"detection_probability_near", options.detection_probability_near},
-      {"detection_probability_far", options.detection_probability_far},
   };
+  described.update(view_noise_options_json(options));
+  return described;
 }
 
 }  // namespace
 
 void validate_synthetic_options(const SyntheticOptions& options) {
-  const OptionChecker check;
+  const OptionChecks check("synthetic benchmark");
   check.whole("objects", options.objects, 1);
   check.whole("views", options.views, 1);
   check.whole("steps", options.steps, 2);
@@ -386,30 +335,7 @@ void validate_synthetic_options(const SyntheticOptions& options) {
   check.real("view_ring_jitter_m", options.view_ring_jitter_m,
              options.view_ring_jitter_m >= 0.0 && options.view_ring_jitter_m < options.view_ring_radius_m,
              "zero or positive and less than view_ring_radius_m");
-  check.not_negative("view_angle_jitter_rad", options.view_angle_jitter_rad);
-  check.not_negative("min_sensor_height_m", options.min_sensor_height_m);
-  check.not_negative("max_sensor_height_m", options.max_sensor_height_m);
-  check.range("min_sensor_height_m", options.min_sensor_height_m, "max_sensor_height_m",
-              options.max_sensor_height_m);
-  check.positive("min_noise_scale", options.min_noise_scale);
-  check.positive("max_noise_scale", options.max_noise_scale);
-  check.range("min_noise_scale", options.min_noise_scale, "max_noise_scale", options.max_noise_scale);
-
-  check.positive("range_noise_m", options.range_noise_m);
-  check.not_negative("range_noise_per_m2", options.range_noise_per_m2);
-  check.positive("cross_noise_m", options.cross_noise_m);
-  check.not_negative("cross_noise_per_m", options.cross_noise_per_m);
-  check.positive("vertical_noise_m", options.vertical_noise_m);
-  check.not_negative("vertical_noise_per_m", options.vertical_noise_per_m);
-
-  check.positive("max_range_m", options.max_range_m);
-  const auto is_probability = [](double p) { return p >= 0.0 && p <= 1.0; };
-  check.real("detection_probability_near", options.detection_probability_near,
-             is_probability(options.detection_probability_near), "a probability in [0, 1]");
-  check.real("detection_probability_far", options.detection_probability_far,
-             is_probability(options.detection_probability_far), "a probability in [0, 1]");
-  check.range("detection_probability_far", options.detection_probability_far, "detection_probability_near",
-              options.detection_probability_near);
+  check_view_noise_options(check, options);
 }
 
 std::vector<SyntheticView> place_synthetic_views(const SyntheticOptions& options) {
@@ -431,49 +357,10 @@ std::vector<SyntheticView> place_synthetic_views(const SyntheticOptions& options
   return views;
 }
 
-Matrix3d LineOfSightNoise::covariance() const {
-  Matrix3d covariance;
-  for (int row = 0; row < 3; ++row) {
-    for (int column = 0; column < 3; ++column) {
-      double sum = 0.0;
-      for (int axis = 0; axis < 3; ++axis) {
-        const double variance = standard_deviations(axis) * standard_deviations(axis);
-        sum += variance * (basis(row, axis) * basis(column, axis));  // symmetric in (row, column) bit for bit
-      }
-      covariance(row, column) = sum;
-    }
-  }
-  return covariance;
-}
-
-Matrix3d LineOfSightNoise::square_root() const {
-  Matrix3d root;
-  for (int row = 0; row < 3; ++row) {
-    for (int axis = 0; axis < 3; ++axis) root(row, axis) = basis(row, axis) * standard_deviations(axis);
-  }
-  return root;
-}
-
 LineOfSightNoise line_of_sight_noise(const SyntheticOptions& options, const SyntheticView& view,
                                      const Vector3d& target) {
-  const Vector3d offset = target - view.sensor_position;
-  const double range = std::sqrt(dot3(offset, offset));
-  LineOfSightNoise noise;
-  noise.range = range;
-
-  // u_r; straight down when the object is at the sensor itself (then any basis will do).
-  const Vector3d along = range > 0.0 ? Vector3d(offset / range) : Vector3d(0.0, 0.0, -1.0);
-  const double horizontal = std::sqrt(along.x() * along.x() + along.y() * along.y());
-  // u_c horizontal and across; along x when the line of sight is vertical.
-  const Vector3d across = horizontal > 1e-12 ? Vector3d(-along.y() / horizontal, along.x() / horizontal, 0.0)
-                                             : Vector3d(1.0, 0.0, 0.0);
-  const Vector3d vertical(along.y() * across.z() - along.z() * across.y(),
-                          along.z() * across.x() - along.x() * across.z(),
-                          along.x() * across.y() - along.y() * across.x());  // u_r × u_c
-  noise.basis.col(0) = along;
-  noise.basis.col(1) = across;
-  noise.basis.col(2) = vertical;
-
+  LineOfSightNoise noise = line_of_sight(view.sensor_position, target);
+  const double range = noise.range;
   const double scale = view.noise_scale;
   noise.standard_deviations =
       Vector3d(scale * (options.range_noise_m + options.range_noise_per_m2 * (range * range)),
@@ -483,26 +370,28 @@ LineOfSightNoise line_of_sight_noise(const SyntheticOptions& options, const Synt
 }
 
 double detection_probability(const SyntheticOptions& options, double range_m) {
-  if (!(range_m <= options.max_range_m)) return 0.0;
-  const double fraction = range_m / options.max_range_m;
-  return options.detection_probability_near -
-         (options.detection_probability_near - options.detection_probability_far) * (fraction * fraction);
+  return range_detection_probability(range_m, options.max_range_m, options.detection_probability_near,
+                                     options.detection_probability_far);
 }
 
-nlohmann::json describe_synthetic_benchmark(const SyntheticOptions& options,
-                                            std::span<const SyntheticView> views) {
-  nlohmann::json view_list = nlohmann::json::array();
+nlohmann::json describe_synthetic_views(std::span<const SyntheticView> views) {
+  nlohmann::json described = nlohmann::json::array();
   for (const SyntheticView& view : views) {
-    view_list.push_back(
+    described.push_back(
         {{"id", view.id},
          {"sensor_position", {view.sensor_position.x(), view.sensor_position.y(), view.sensor_position.z()}},
          {"noise_scale", view.noise_scale}});
   }
+  return described;
+}
+
+nlohmann::json describe_synthetic_benchmark(const SyntheticOptions& options,
+                                            std::span<const SyntheticView> views) {
   return {
       {"source", "synthetic"},
       {"seed", options.seed},
       {"options", options_json(options)},
-      {"views", view_list},
+      {"views", describe_synthetic_views(views)},
       {"motion_model",
        "ground-plane walkers, substeps of at most max_substep_s: Ornstein-Uhlenbeck turn rate "
        "(turn_rate_std_rad_s, turn_rate_correlation_s), random stops (stop_rate_per_s, "

@@ -50,7 +50,7 @@
 //
 // ── Measurement noise ───────────────────────────────────────────────────────────────────────────
 // For a view at sensor position s and an object at p, range r = ‖p − s‖, the line-of-sight basis
-// U = [u_r u_c u_v]:
+// U = [u_r u_c u_v] (line_of_sight.hpp):
 //   u_r = (p − s)/r                            along the range
 //   u_c = (−u_r,y, u_r,x, 0)/‖·‖               across, horizontal
 //   u_v = u_r × u_c                            across, in the vertical plane of the line of sight
@@ -81,6 +81,7 @@
 
 #include "stgf/core/gaussian.hpp"
 #include "stgf/datasets/benchmark_folder.hpp"
+#include "stgf/datasets/line_of_sight.hpp"
 
 namespace stgf {
 
@@ -145,20 +146,16 @@ struct SyntheticView {
 // The views of the benchmark (from the "views" stream of the seed). Validates the options.
 std::vector<SyntheticView> place_synthetic_views(const SyntheticOptions& options);
 
-// The measurement noise of `view` for an object at `target` (see the header comment).
-struct LineOfSightNoise {
-  Matrix3d basis;                // U = [u_r u_c u_v], orthonormal columns
-  Vector3d standard_deviations;  // (σ_r, σ_c, σ_v)
-  double range = 0.0;            // r (m)
-
-  Matrix3d covariance() const;   // R = U diag(σ²) Uᵀ, exactly symmetric
-  Matrix3d square_root() const;  // U diag(σ), so that square_root() square_root()ᵀ = R
-};
+// The measurement noise of `view` for an object at `target` (see the header comment):
+// line_of_sight (line_of_sight.hpp) with σ_r, σ_c, σ_v of these options and the view's g.
 LineOfSightNoise line_of_sight_noise(const SyntheticOptions& options, const SyntheticView& view,
                                      const Vector3d& target);
 
-// P_d(range) (see the header comment).
+// P_d(range) (see the header comment; range_detection_probability with these options).
 double detection_probability(const SyntheticOptions& options, double range_m);
+
+// The "views" of benchmark.json: per view its id, sensor_position [x, y, z] and noise_scale.
+nlohmann::json describe_synthetic_views(std::span<const SyntheticView> views);
 
 // What benchmark.json records about a synthetic benchmark (without "counts").
 nlohmann::json describe_synthetic_benchmark(const SyntheticOptions& options,

@@ -3,24 +3,15 @@
 #include <fmt/format.h>
 
 #include <algorithm>
-#include <charconv>
 #include <cmath>
-#include <fstream>
-#include <pugixml.hpp>
-#include <sstream>
 #include <stdexcept>
 #include <utility>
 
 #include "stgf/datasets/random.hpp"
-#include "stgf/io/input_error.hpp"
+#include "stgf/datasets/xml_file.hpp"
 
-// Same bits on every machine: no fused multiply-add contractions, and every product below is written
-// out with a fixed order of summation (see synthetic.cpp).
-#if defined(__clang__)
-#pragma STDC FP_CONTRACT OFF
-#elif defined(__GNUC__)
-#pragma GCC optimize("fp-contract=off")
-#endif
+// last: applies to this file's functions only
+#include "stgf/datasets/fp_contract_off.hpp"
 
 namespace stgf {
 namespace {
@@ -265,80 +256,23 @@ TsaiCamera TsaiCamera::with_pose_error(const Vector3d& rotation_error_rad,
 
 // ── Reading ──
 
-namespace xml_input {
-
-std::string read_whole_file(const std::string& path) {
-  std::ifstream input(path, std::ios::binary);
-  if (!input) throw InputError(path, 0, "cannot open the file");
-  std::ostringstream text;
-  text << input.rdbuf();
-  if (input.bad()) throw InputError(path, 0, "cannot read the file");
-  return text.str();
-}
-
-LineIndex::LineIndex(std::string_view text) {
-  for (std::size_t at = text.find('\n'); at != std::string_view::npos; at = text.find('\n', at + 1)) {
-    line_breaks_.push_back(static_cast<std::ptrdiff_t>(at));
-  }
-}
-
-int LineIndex::line_at(std::ptrdiff_t offset) const {
-  if (offset < 0) return 0;
-  // Line = 1 + the number of line breaks before the offset.
-  return 1 + static_cast<int>(std::lower_bound(line_breaks_.begin(), line_breaks_.end(), offset) -
-                              line_breaks_.begin());
-}
-
-std::optional<double> parse_finite_number(std::string_view text) {
-  const auto is_blank = [](char c) { return c == ' ' || c == '\t' || c == '\n' || c == '\r'; };
-  while (!text.empty() && is_blank(text.front())) text.remove_prefix(1);
-  while (!text.empty() && is_blank(text.back())) text.remove_suffix(1);
-  if (!text.empty() && text.front() == '+') text.remove_prefix(1);
-  if (text.empty()) return std::nullopt;
-  double value = 0.0;
-  const auto [end, error] = std::from_chars(text.data(), text.data() + text.size(), value);
-  if (error != std::errc() || end != text.data() + text.size() || !std::isfinite(value)) return std::nullopt;
-  return value;
-}
-
-}  // namespace xml_input
-
 namespace {
 
-// Reads attributes of the calibration file, reporting the element's line on any problem.
-class CalibrationReader {
+// The calibration file: its elements and attributes, reported at the element's line on any problem.
+class CalibrationFile : public XmlFile {
  public:
-  CalibrationReader(const std::string& path, const std::string& text) : path_(path), lines_(text) {}
-
-  int line(const pugi::xml_node& node) const { return lines_.line_at(node.offset_debug()); }
+  explicit CalibrationFile(const std::string& path) : XmlFile(path, "Camera") {}
 
   pugi::xml_node element(const pugi::xml_node& parent, const char* name) const {
     const pugi::xml_node child = parent.child(name);
-    if (!child)
-      throw InputError(path_, line(parent), fmt::format("<{}> has no <{}> element", parent.name(), name));
+    if (!child) fail(parent, fmt::format("<{}> has no <{}> element", parent.name(), name));
     return child;
-  }
-
-  double number(const pugi::xml_node& element, const char* name) const {
-    const pugi::xml_attribute attribute = element.attribute(name);
-    if (!attribute) {
-      throw InputError(path_, line(element), fmt::format("<{}> has no attribute {}", element.name(), name));
-    }
-    const std::optional<double> value = xml_input::parse_finite_number(attribute.value());
-    if (!value) {
-      throw InputError(path_, line(element),
-                       fmt::format("<{}> attribute {}=\"{}\" is not a finite number", element.name(), name,
-                                   attribute.value()));
-    }
-    return *value;
   }
 
   double positive_number(const pugi::xml_node& element, const char* name) const {
     const double value = number(element, name);
     if (!(value > 0.0)) {
-      throw InputError(
-          path_, line(element),
-          fmt::format("<{}> attribute {} must be positive (got {})", element.name(), name, value));
+      fail(element, fmt::format("<{}> attribute {} must be positive (got {})", element.name(), name, value));
     }
     return value;
   }
@@ -346,16 +280,11 @@ class CalibrationReader {
   int positive_whole_number(const pugi::xml_node& element, const char* name) const {
     const double value = positive_number(element, name);
     if (value != std::floor(value) || value > 1e9) {
-      throw InputError(path_, line(element),
-                       fmt::format("<{}> attribute {} must be a whole number of pixels (got {})",
-                                   element.name(), name, value));
+      fail(element, fmt::format("<{}> attribute {} must be a whole number of pixels (got {})", element.name(),
+                                name, value));
     }
     return static_cast<int>(value);
   }
-
- private:
-  const std::string& path_;
-  xml_input::LineIndex lines_;
 };
 
 constexpr double kMillimetresPerMetre = 1000.0;
@@ -363,50 +292,42 @@ constexpr double kMillimetresPerMetre = 1000.0;
 }  // namespace
 
 TsaiCamera read_tsai_camera(const std::string& path) {
-  const std::string text = xml_input::read_whole_file(path);
-  pugi::xml_document document;
-  const pugi::xml_parse_result parsed = document.load_buffer(text.data(), text.size());
-  if (!parsed) {
-    throw InputError(path, xml_input::LineIndex(text).line_at(parsed.offset),
-                     fmt::format("not well-formed XML: {}", parsed.description()));
-  }
-  const pugi::xml_node camera = document.child("Camera");
-  if (!camera) throw InputError(path, 0, "no <Camera> element at the top level");
-  const CalibrationReader reader(path, text);
+  const CalibrationFile file(path);
+  const pugi::xml_node& camera = file.top();
 
-  const pugi::xml_node geometry_element = reader.element(camera, "Geometry");
+  const pugi::xml_node geometry_element = file.element(camera, "Geometry");
   TsaiGeometry geometry;
-  geometry.width_px = reader.positive_whole_number(geometry_element, "width");
-  geometry.height_px = reader.positive_whole_number(geometry_element, "height");
-  geometry.ncx = reader.number(geometry_element, "ncx");
-  geometry.nfx = reader.number(geometry_element, "nfx");
-  geometry.dx_mm = reader.number(geometry_element, "dx");
-  geometry.dy_mm = reader.number(geometry_element, "dy");
-  geometry.dpx_mm = reader.positive_number(geometry_element, "dpx");
-  geometry.dpy_mm = reader.positive_number(geometry_element, "dpy");
+  geometry.width_px = file.positive_whole_number(geometry_element, "width");
+  geometry.height_px = file.positive_whole_number(geometry_element, "height");
+  geometry.ncx = file.number(geometry_element, "ncx");
+  geometry.nfx = file.number(geometry_element, "nfx");
+  geometry.dx_mm = file.number(geometry_element, "dx");
+  geometry.dy_mm = file.number(geometry_element, "dy");
+  geometry.dpx_mm = file.positive_number(geometry_element, "dpx");
+  geometry.dpy_mm = file.positive_number(geometry_element, "dpy");
 
-  const pugi::xml_node intrinsic_element = reader.element(camera, "Intrinsic");
+  const pugi::xml_node intrinsic_element = file.element(camera, "Intrinsic");
   TsaiIntrinsic intrinsic;
-  intrinsic.focal_mm = reader.positive_number(intrinsic_element, "focal");
-  intrinsic.kappa1_per_mm2 = reader.number(intrinsic_element, "kappa1");
-  intrinsic.cx_px = reader.number(intrinsic_element, "cx");
-  intrinsic.cy_px = reader.number(intrinsic_element, "cy");
-  intrinsic.sx = reader.positive_number(intrinsic_element, "sx");
+  intrinsic.focal_mm = file.positive_number(intrinsic_element, "focal");
+  intrinsic.kappa1_per_mm2 = file.number(intrinsic_element, "kappa1");
+  intrinsic.cx_px = file.number(intrinsic_element, "cx");
+  intrinsic.cy_px = file.number(intrinsic_element, "cy");
+  intrinsic.sx = file.positive_number(intrinsic_element, "sx");
 
-  const pugi::xml_node extrinsic_element = reader.element(camera, "Extrinsic");
+  const pugi::xml_node extrinsic_element = file.element(camera, "Extrinsic");
   TsaiExtrinsic extrinsic;
-  extrinsic.tx_m = reader.number(extrinsic_element, "tx") / kMillimetresPerMetre;
-  extrinsic.ty_m = reader.number(extrinsic_element, "ty") / kMillimetresPerMetre;
-  extrinsic.tz_m = reader.number(extrinsic_element, "tz") / kMillimetresPerMetre;
-  extrinsic.rx_rad = reader.number(extrinsic_element, "rx");
-  extrinsic.ry_rad = reader.number(extrinsic_element, "ry");
-  extrinsic.rz_rad = reader.number(extrinsic_element, "rz");
+  extrinsic.tx_m = file.number(extrinsic_element, "tx") / kMillimetresPerMetre;
+  extrinsic.ty_m = file.number(extrinsic_element, "ty") / kMillimetresPerMetre;
+  extrinsic.tz_m = file.number(extrinsic_element, "tz") / kMillimetresPerMetre;
+  extrinsic.rx_rad = file.number(extrinsic_element, "rx");
+  extrinsic.ry_rad = file.number(extrinsic_element, "ry");
+  extrinsic.rz_rad = file.number(extrinsic_element, "rz");
 
   std::string name = camera.attribute("name").value();
   try {
     return TsaiCamera(std::move(name), geometry, intrinsic, extrinsic);
   } catch (const std::invalid_argument& error) {
-    throw InputError(path, reader.line(camera), error.what());
+    file.fail(camera, error.what());
   }
 }
 

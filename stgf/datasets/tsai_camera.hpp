@@ -198,27 +198,4 @@ class TsaiCamera {
 // not a finite number (width and height: not a positive whole number), or out of range.
 TsaiCamera read_tsai_camera(const std::string& path);
 
-// Small pieces shared by the XML readers of this layer (tsai_camera.cpp, pets2009.cpp).
-namespace xml_input {
-
-// The whole file; InputError(path, 0, "cannot open the file") when it cannot be read.
-std::string read_whole_file(const std::string& path);
-
-// Line numbers of a text by byte offset (pugixml reports byte offsets): the offsets of its line
-// breaks, found once, then a binary search per query.
-class LineIndex {
- public:
-  explicit LineIndex(std::string_view text);
-  // The 1-based line on which byte `offset` lies; 0 when the offset is unknown (negative).
-  int line_at(std::ptrdiff_t offset) const;
-
- private:
-  std::vector<std::ptrdiff_t> line_breaks_;  // offsets of the '\n' characters, ascending
-};
-
-// The number `text` spells, when all of it is one finite decimal number (surrounding blanks allowed).
-std::optional<double> parse_finite_number(std::string_view text);
-
-}  // namespace xml_input
-
 }  // namespace stgf

@@ -6,17 +6,13 @@
 // KITTI is not in the repository (licence): every test skips when STGF_KITTI_DIR does not exist.
 
 #include <gtest/gtest.h>
-#include <unistd.h>
 
 #include <algorithm>
-#include <atomic>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
-#include <fstream>
 #include <map>
 #include <set>
-#include <sstream>
 #include <string>
 #include <tuple>
 #include <vector>
@@ -25,11 +21,20 @@
 #include "stgf/datasets/cad_benchmark.hpp"
 #include "stgf/datasets/kitti_tracking.hpp"
 #include "stgf/io/input_error.hpp"
+#include "support/benchmark_checks.hpp"
+#include "support/scratch_directory.hpp"
 
 namespace stgf {
 namespace {
 
 namespace fs = std::filesystem;
+using testing::file_bytes;
+using testing::kBenchmarkFiles;
+using testing::NamedSplit;
+using testing::ScratchDirectory;
+using testing::splits_of;
+using testing::truth_by_key;
+using testing::TruthKey;
 
 const char* const kKittiDirectory = STGF_KITTI_DIR;
 constexpr double kPi = portable::kPi;
@@ -79,21 +84,6 @@ const Benchmark& benchmark_always_detecting() {
   return benchmark;
 }
 
-struct NamedSplit {
-  const char* name;
-  const BenchmarkSplit* split;
-};
-std::vector<NamedSplit> splits_of(const Benchmark& benchmark) {
-  return {{"train", &benchmark.train}, {"val", &benchmark.val}, {"test", &benchmark.test}};
-}
-
-using TruthKey = std::tuple<std::string, double, std::string>;  // scene, t, object
-std::map<TruthKey, Vector3d> truth_of(const BenchmarkSplit& split) {
-  std::map<TruthKey, Vector3d> truth;
-  for (const TruthPoint& point : split.truth) truth[{point.scene, point.time, point.object}] = point.position;
-  return truth;
-}
-
 int frame_of(double time) { return static_cast<int>(std::lround(time * 10.0)); }
 
 // "cad-<split>-NNNN"
@@ -102,39 +92,6 @@ std::string scene_name(const std::string& split, int index) {
   std::snprintf(number, sizeof number, "%04d", index);
   return "cad-" + split + "-" + number;
 }
-
-// A fresh empty directory under the system temporary directory, removed with everything in it.
-class ScratchDirectory {
- public:
-  ScratchDirectory() {
-    static std::atomic<int> counter{0};
-    path_ = fs::temp_directory_path() /
-            ("stgf-test-cad-" + std::to_string(::getpid()) + "-" + std::to_string(counter++));
-    fs::remove_all(path_);
-    fs::create_directories(path_);
-  }
-  ~ScratchDirectory() {
-    std::error_code ignored;
-    fs::remove_all(path_, ignored);
-  }
-  ScratchDirectory(const ScratchDirectory&) = delete;
-  ScratchDirectory& operator=(const ScratchDirectory&) = delete;
-  std::string operator/(const std::string& name) const { return (path_ / name).string(); }
-
- private:
-  fs::path path_;
-};
-
-std::string file_bytes(const fs::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::ostringstream bytes;
-  bytes << in.rdbuf();
-  return bytes.str();
-}
-
-const std::vector<std::string> kFolderFiles = {
-    "benchmark.json", "train/measurements.csv", "train/truth.csv", "val/measurements.csv",
-    "val/truth.csv",  "test/measurements.csv",  "test/truth.csv"};
 
 // The vehicle entries of one instance in benchmark.json, by scene.
 std::map<std::string, nlohmann::json> instances_by_scene(const Benchmark& benchmark,
@@ -153,7 +110,7 @@ TEST(CadBenchmark, SameSeedSameFilesOtherSeedOtherFiles) {
   const ScratchDirectory scratch;
   write_benchmark_folder(scratch / "first", default_benchmark());
   write_benchmark_folder(scratch / "second", make_cad_benchmark(small_options()));
-  for (const std::string& file : kFolderFiles) {
+  for (const std::string& file : kBenchmarkFiles) {
     EXPECT_EQ(file_bytes(scratch / ("first/" + file)), file_bytes(scratch / ("second/" + file))) << file;
   }
   CadOptions other = small_options();
@@ -192,7 +149,7 @@ TEST(CadBenchmark, CountsAndShapeMatchTheOptions) {
     EXPECT_EQ(static_cast<int>(split->truth.size()), count * options.steps * options.objects);
 
     // Measurements: known views, at most max_vehicles per instance, each of a truth row, unique.
-    const std::map<TruthKey, Vector3d> truth = truth_of(*split);
+    const std::map<TruthKey, Vector3d> truth = truth_by_key(*split);
     const std::map<std::string, nlohmann::json> described = instances_by_scene(benchmark, name);
     std::set<std::tuple<std::string, double, std::string, std::string>> seen;
     std::map<std::string, std::set<std::string>> views;
@@ -289,10 +246,7 @@ TEST(CadBenchmark, RawNeesIsThreeWithoutGpsError) {
   int inside = 0;
   std::size_t rows = 0;
   for (const auto& [name, split] : splits_of(benchmark_without_gps_error())) {
-    const std::map<TruthKey, Vector3d> truth = truth_of(*split);
-    for (const Measurement& measurement : split->measurements) {
-      const double nees = measurement.position.mahalanobis_squared(
-          truth.at({measurement.scene, measurement.time, measurement.object}));
+    for (const double nees : testing::raw_nees(*split)) {
       sum += nees;
       if (nees >= 0.2158 && nees <= 9.3484) ++inside;  // two-sided 95% interval of χ²₃
       ++rows;
@@ -315,7 +269,7 @@ TEST(CadBenchmark, GpsErrorIsTheDocumentedRigidMapAndNotInR) {
   double corrected = 0.0;
   std::size_t rows = 0;
   for (const auto& [name, split] : splits_of(benchmark)) {
-    const std::map<TruthKey, Vector3d> truth = truth_of(*split);
+    const std::map<TruthKey, Vector3d> truth = truth_by_key(*split);
     const std::map<std::string, nlohmann::json> described = instances_by_scene(benchmark, name);
     for (const Measurement& measurement : split->measurements) {
       const Vector3d& p = truth.at({measurement.scene, measurement.time, measurement.object});
@@ -362,7 +316,7 @@ TEST(CadBenchmark, DepthVarianceGrowsWithRange) {
   int near_rows = 0;
   int far_rows = 0;
   for (const auto& [name, split] : splits_of(benchmark_without_gps_error())) {
-    const std::map<TruthKey, Vector3d> truth = truth_of(*split);
+    const std::map<TruthKey, Vector3d> truth = truth_by_key(*split);
     for (const Measurement& measurement : split->measurements) {
       const Vector3d& p = truth.at({measurement.scene, measurement.time, measurement.object});
       const Vector3d offset = p - *measurement.sensor_position;
@@ -407,7 +361,7 @@ TEST(CadBenchmark, MissesHappenAsOftenAsTheModelSays) {
   double expected = 0.0;
   double variance = 0.0;
   for (const NamedSplit& always : splits_of(benchmark_always_detecting())) {
-    const std::map<TruthKey, Vector3d> truth = truth_of(*always.split);
+    const std::map<TruthKey, Vector3d> truth = truth_by_key(*always.split);
     for (const Measurement& measurement : always.split->measurements) {
       const double range =
           (truth.at({measurement.scene, measurement.time, measurement.object}) - *measurement.sensor_position)
@@ -471,7 +425,7 @@ TEST(CadBenchmark, SensorsSitOnTheConnectedVehicles) {
   const double half_fov_cosine = std::cos(options.field_of_view_deg * kPi / 360.0);
   std::size_t checked = 0;
   for (const auto& [name, split] : splits_of(benchmark)) {
-    const std::map<TruthKey, Vector3d> truth = truth_of(*split);
+    const std::map<TruthKey, Vector3d> truth = truth_by_key(*split);
     const std::map<std::string, nlohmann::json> described = instances_by_scene(benchmark, name);
     for (const Measurement& measurement : split->measurements) {
       const nlohmann::json& instance = described.at(measurement.scene);

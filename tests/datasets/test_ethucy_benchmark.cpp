@@ -6,15 +6,12 @@
 // and still fail when the model is wrong.
 
 #include <gtest/gtest.h>
-#include <unistd.h>
 
 #include <Eigen/Cholesky>
 #include <algorithm>
-#include <atomic>
 #include <chrono>
 #include <cmath>
 #include <filesystem>
-#include <fstream>
 #include <iomanip>
 #include <iostream>
 #include <map>
@@ -28,11 +25,18 @@
 #include "stgf/datasets/eth_ucy.hpp"
 #include "stgf/datasets/ethucy_benchmark.hpp"
 #include "stgf/io/input_error.hpp"
+#include "support/benchmark_checks.hpp"
+#include "support/scratch_directory.hpp"
 
 namespace stgf {
 namespace {
 
 namespace fs = std::filesystem;
+using testing::file_bytes;
+using testing::kBenchmarkFiles;
+using testing::mean_of;
+using testing::raw_nees;
+using testing::ScratchDirectory;
 
 const std::string kEthUcyDirectory = STGF_DATA_DIR "/eth_ucy";
 
@@ -106,61 +110,6 @@ std::string scene_name(const std::string& split, int index) {
   std::ostringstream name;
   name << "ethucy-" << split << "-" << std::setw(4) << std::setfill('0') << index;
   return name.str();
-}
-
-using TruthKey = std::tuple<std::string, int, std::string>;  // scene, frame, object
-
-std::map<TruthKey, Vector3d> truth_by_key(const BenchmarkSplit& split) {
-  std::map<TruthKey, Vector3d> truth;
-  for (const TruthPoint& point : split.truth)
-    truth[{point.scene, frame_of(point.time), point.object}] = point.position;
-  return truth;
-}
-
-// NEES (z − p)ᵀ R⁻¹ (z − p) of every measurement against its truth.
-std::vector<double> measurement_nees(const BenchmarkSplit& split) {
-  const std::map<TruthKey, Vector3d> truth = truth_by_key(split);
-  std::vector<double> nees;
-  for (const Measurement& measurement : split.measurements) {
-    const Vector3d& position = truth.at({measurement.scene, frame_of(measurement.time), measurement.object});
-    nees.push_back(measurement.position.mahalanobis_squared(position));
-  }
-  return nees;
-}
-
-double mean_of(const std::vector<double>& values) {
-  double sum = 0.0;
-  for (const double value : values) sum += value;
-  return sum / static_cast<double>(values.size());
-}
-
-class ScratchDirectory {
- public:
-  ScratchDirectory() {
-    static std::atomic<int> counter{0};
-    path_ = fs::temp_directory_path() /
-            ("stgf-test-ethucy-" + std::to_string(::getpid()) + "-" + std::to_string(counter++));
-    fs::remove_all(path_);
-    fs::create_directories(path_);
-  }
-  ~ScratchDirectory() {
-    std::error_code ignored;
-    fs::remove_all(path_, ignored);
-  }
-  ScratchDirectory(const ScratchDirectory&) = delete;
-  ScratchDirectory& operator=(const ScratchDirectory&) = delete;
-
-  std::string operator/(const std::string& name) const { return (path_ / name).string(); }
-
- private:
-  fs::path path_;
-};
-
-std::string file_bytes(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::ostringstream bytes;
-  bytes << in.rdbuf();
-  return bytes.str();
 }
 
 // ── Reader ──
@@ -302,9 +251,7 @@ TEST(EthUcyBenchmark, SameSeedSameFilesOtherSeedOtherMeasurements) {
   ScratchDirectory scratch;
   write_benchmark_folder(scratch / "a", make_ethucy_benchmark(options));
   write_benchmark_folder(scratch / "b", make_ethucy_benchmark(options, real_files()));
-  for (const std::string name :
-       {"train/measurements.csv", "train/truth.csv", "val/measurements.csv", "val/truth.csv",
-        "test/measurements.csv", "test/truth.csv", "benchmark.json"}) {
+  for (const std::string& name : kBenchmarkFiles) {
     const std::string bytes = file_bytes(scratch / ("a/" + name));
     EXPECT_GT(bytes.size(), 100u) << name;
     EXPECT_EQ(bytes, file_bytes(scratch / ("b/" + name))) << name;
@@ -497,8 +444,8 @@ TEST(EthUcyBenchmark, UnbiasedErrorsHaveNeesThree) {
   options.registration_bias_m = 0.0;
   options.train_instances = 300;
   const Benchmark benchmark = make_ethucy_benchmark(options, real_files());
-  std::vector<double> nees = measurement_nees(benchmark.train);
-  const std::vector<double> test_nees = measurement_nees(benchmark.test);
+  std::vector<double> nees = raw_nees(benchmark.train);
+  const std::vector<double> test_nees = raw_nees(benchmark.test);
   nees.insert(nees.end(), test_nees.begin(), test_nees.end());
   const auto count = static_cast<double>(nees.size());
   ASSERT_GT(count, 20000.0);
@@ -544,7 +491,7 @@ TEST(EthUcyBenchmark, DefaultBiasRaisesNees) {
   ASSERT_GT(options.registration_bias_m, 0.0);
   options.train_instances = 300;
   const Benchmark benchmark = make_ethucy_benchmark(options, real_files());
-  const std::vector<double> nees = measurement_nees(benchmark.train);
+  const std::vector<double> nees = raw_nees(benchmark.train);
   double expected_rise = 0.0;
   for (const Measurement& measurement : benchmark.train.measurements) {
     const Matrix3d& information = measurement.position.information();

@@ -4,10 +4,8 @@
 // does not exist. The reader tests on small hand-written files always run.
 
 #include <gtest/gtest.h>
-#include <unistd.h>
 
 #include <algorithm>
-#include <atomic>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -20,11 +18,15 @@
 
 #include "stgf/datasets/kitti_tracking.hpp"
 #include "stgf/io/input_error.hpp"
+#include "support/input_errors.hpp"
+#include "support/scratch_directory.hpp"
 
 namespace stgf {
 namespace {
 
 namespace fs = std::filesystem;
+using testing::expect_input_error;
+using testing::ScratchDirectory;
 
 const char* const kKittiDirectory = STGF_KITTI_DIR;
 const std::string kDerivedDirectory = std::string(STGF_SHARED_DATA_DIR) + "/kitti_tracking/derived";
@@ -35,52 +37,6 @@ const std::vector<std::string> kSequences = {"0002", "0003", "0004", "0005", "00
   do {                                                                                              \
     if (!fs::is_directory(kKittiDirectory)) GTEST_SKIP() << "no KITTI data at " << kKittiDirectory; \
   } while (false)
-
-// A fresh empty directory under the system temporary directory, removed with everything in it.
-class ScratchDirectory {
- public:
-  ScratchDirectory() {
-    static std::atomic<int> counter{0};
-    path_ = fs::temp_directory_path() /
-            ("stgf-test-kitti-" + std::to_string(::getpid()) + "-" + std::to_string(counter++));
-    fs::remove_all(path_);
-    fs::create_directories(path_);
-  }
-  ~ScratchDirectory() {
-    std::error_code ignored;
-    fs::remove_all(path_, ignored);
-  }
-  ScratchDirectory(const ScratchDirectory&) = delete;
-  ScratchDirectory& operator=(const ScratchDirectory&) = delete;
-
-  // Writes `text` to `name` (creating folders) and returns its path.
-  std::string write(const std::string& name, const std::string& text) const {
-    const fs::path path = path_ / name;
-    fs::create_directories(path.parent_path());
-    std::ofstream(path, std::ios::binary) << text;
-    return path.string();
-  }
-  std::string path() const { return path_.string(); }
-
- private:
-  fs::path path_;
-};
-
-// Runs `read` and expects an InputError located at `path`:`line`; returns its message.
-template <typename Read>
-std::string expect_input_error(Read read, const std::string& path, int line) {
-  try {
-    read();
-  } catch (const InputError& error) {
-    EXPECT_EQ(error.file(), path);
-    EXPECT_EQ(error.line(), line) << error.what();
-    const std::string prefix = line > 0 ? path + ":" + std::to_string(line) + ": " : path + ": ";
-    EXPECT_EQ(std::string(error.what()).rfind(prefix, 0), 0u) << error.what();
-    return error.what();
-  }
-  ADD_FAILURE() << "no InputError for " << path << ":" << line;
-  return "";
-}
 
 // Splits a CSV line at commas (the derived files have no quotes).
 std::vector<std::string> csv_fields(const std::string& line) {
@@ -193,8 +149,7 @@ TEST(KittiTracking, MalformedLabelLinesNameFileAndLine) {
     const std::string message = expect_input_error([&] { read_kitti_labels(path); }, path, 2);
     EXPECT_NE(message.find(cases[k].second), std::string::npos) << message;
   }
-  expect_input_error([&] { read_kitti_labels(scratch.path() + "/absent.txt"); },
-                     scratch.path() + "/absent.txt", 0);
+  expect_input_error([&] { read_kitti_labels(scratch / "absent.txt"); }, scratch / "absent.txt", 0);
 }
 
 TEST(KittiTracking, MalformedOxtsLinesNameFileAndLine) {

@@ -4,11 +4,9 @@
 // and still fail when the model is wrong.
 
 #include <gtest/gtest.h>
-#include <unistd.h>
 
 #include <Eigen/Eigenvalues>
 #include <algorithm>
-#include <atomic>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -17,7 +15,6 @@
 #include <map>
 #include <nlohmann/json.hpp>
 #include <set>
-#include <sstream>
 #include <string>
 #include <tuple>
 #include <vector>
@@ -25,11 +22,19 @@
 #include "stgf/datasets/benchmark_folder.hpp"
 #include "stgf/datasets/mpl_benchmark.hpp"
 #include "stgf/datasets/pets2009.hpp"
+#include "support/benchmark_checks.hpp"
+#include "support/scratch_directory.hpp"
 
 namespace stgf {
 namespace {
 
 namespace fs = std::filesystem;
+using testing::file_bytes;
+using testing::kBenchmarkFiles;
+using testing::mean_of;
+using testing::raw_nees;
+using testing::ScratchDirectory;
+using testing::splits_of;
 
 const std::string kSourceDirectory = std::string(STGF_DATA_DIR) + "/pets2009_s2l1";
 const std::vector<std::string> kDefaultViewIds = {"view1", "view3", "view4", "view5",
@@ -53,68 +58,7 @@ const MplSource& source() {
 
 Benchmark build(const MplOptions& options) { return make_mpl_benchmark(options, source()); }
 
-std::vector<const BenchmarkSplit*> splits_of(const Benchmark& benchmark) {
-  return {&benchmark.train, &benchmark.val, &benchmark.test};
-}
-
 int frame_of(double time) { return static_cast<int>(std::lround(time * kPets2009FrameRateHz)); }
-
-// Truth position of (scene, object) at a frame.
-using TruthKey = std::tuple<std::string, std::string, int>;
-std::map<TruthKey, Vector3d> truth_by_key(const BenchmarkSplit& split) {
-  std::map<TruthKey, Vector3d> truth;
-  for (const TruthPoint& point : split.truth)
-    truth[{point.scene, point.object, frame_of(point.time)}] = point.position;
-  return truth;
-}
-
-// NEES of every raw measurement against the truth: (z − p)ᵀ R⁻¹ (z − p).
-std::vector<double> raw_nees(const Benchmark& benchmark) {
-  std::vector<double> values;
-  for (const BenchmarkSplit* split : splits_of(benchmark)) {
-    const std::map<TruthKey, Vector3d> truth = truth_by_key(*split);
-    for (const Measurement& measurement : split->measurements) {
-      const Vector3d& position =
-          truth.at({measurement.scene, measurement.object, frame_of(measurement.time)});
-      values.push_back(measurement.position.mahalanobis_squared(position));
-    }
-  }
-  return values;
-}
-
-double mean_of(const std::vector<double>& values) {
-  double sum = 0.0;
-  for (const double value : values) sum += value;
-  return sum / static_cast<double>(values.size());
-}
-
-std::string file_bytes(const fs::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::ostringstream bytes;
-  bytes << in.rdbuf();
-  return bytes.str();
-}
-
-class ScratchDirectory {
- public:
-  ScratchDirectory() {
-    static std::atomic<int> counter{0};
-    path_ = fs::temp_directory_path() /
-            ("stgf-test-mpl-" + std::to_string(::getpid()) + "-" + std::to_string(counter++));
-    fs::remove_all(path_);
-    fs::create_directories(path_);
-  }
-  ~ScratchDirectory() {
-    std::error_code ignored;
-    fs::remove_all(path_, ignored);
-  }
-  ScratchDirectory(const ScratchDirectory&) = delete;
-  ScratchDirectory& operator=(const ScratchDirectory&) = delete;
-  std::string operator/(const std::string& name) const { return (path_ / name).string(); }
-
- private:
-  fs::path path_;
-};
 
 // ── Reproducibility ──
 
@@ -123,9 +67,7 @@ TEST(MplBenchmark, SameSeedGivesByteIdenticalFoldersAndAnotherSeedDiffers) {
   write_benchmark_folder(directory / "a", make_mpl_benchmark(small_options(5)));  // reads the files itself
   write_benchmark_folder(directory / "b", build(small_options(5)));
   write_benchmark_folder(directory / "c", build(small_options(6)));
-  for (const std::string file :
-       {"train/measurements.csv", "train/truth.csv", "val/measurements.csv", "val/truth.csv",
-        "test/measurements.csv", "test/truth.csv", "benchmark.json"}) {
+  for (const std::string& file : kBenchmarkFiles) {
     const std::string a = file_bytes(fs::path(directory / "a") / file);
     EXPECT_FALSE(a.empty()) << file;
     EXPECT_EQ(a, file_bytes(fs::path(directory / "b") / file)) << file;
@@ -213,7 +155,7 @@ TEST(MplBenchmark, OtherShapesAndViews) {
   const Benchmark benchmark = make_mpl_benchmark(options);
   EXPECT_EQ(benchmark.val.truth.size(), 20u * 8u * 2u);
   std::set<std::string> views;
-  for (const BenchmarkSplit* split : splits_of(benchmark)) {
+  for (const auto& [name, split] : splits_of(benchmark)) {
     for (const Measurement& measurement : split->measurements) views.insert(measurement.view);
   }
   EXPECT_EQ(views, (std::set<std::string>{"view2", "view8"}));
@@ -222,7 +164,7 @@ TEST(MplBenchmark, OtherShapesAndViews) {
 TEST(MplBenchmark, RowsAreSortedAndTruthComesFromTheRecording) {
   const Benchmark benchmark = build(small_options());
   const Recording& recording = source().recording;
-  for (const BenchmarkSplit* split : splits_of(benchmark)) {
+  for (const auto& [name, split] : splits_of(benchmark)) {
     EXPECT_TRUE(std::is_sorted(split->measurements.begin(), split->measurements.end(),
                                [](const Measurement& a, const Measurement& b) {
                                  return std::tie(a.scene, a.time, a.view, a.object) <
@@ -270,15 +212,15 @@ TEST(MplBenchmark, SplitsAreDisjointInTime) {
   const Benchmark benchmark = build(options);
   const MplSplitRanges ranges = mpl_split_ranges(options, source().recording);
   const std::vector<FrameRange> expected = {ranges.train, ranges.val, ranges.test};
-  const std::vector<const BenchmarkSplit*> splits = splits_of(benchmark);
+  const std::vector<testing::NamedSplit> splits = splits_of(benchmark);
   for (std::size_t index = 0; index < splits.size(); ++index) {
     int first = 1 << 30;
     int last = -1;
-    for (const TruthPoint& point : splits[index]->truth) {
+    for (const TruthPoint& point : splits[index].split->truth) {
       first = std::min(first, frame_of(point.time));
       last = std::max(last, frame_of(point.time));
     }
-    for (const Measurement& measurement : splits[index]->measurements) {
+    for (const Measurement& measurement : splits[index].split->measurements) {
       EXPECT_GE(frame_of(measurement.time), first);
       EXPECT_LE(frame_of(measurement.time), last);
     }
@@ -334,7 +276,7 @@ TEST(MplBenchmark, CovarianceIsAnisotropicAndGrowsWithRange) {
   std::vector<double> ranges;
   std::vector<double> traces;
   double most_elongated = 0.0;
-  for (const BenchmarkSplit* split : splits_of(benchmark)) {
+  for (const auto& [name, split] : splits_of(benchmark)) {
     for (const Measurement& measurement : split->measurements) {
       const Matrix3d& covariance = measurement.position.covariance();
       ranges.push_back((measurement.position.mean() - *measurement.sensor_position).norm());
@@ -369,7 +311,7 @@ TEST(MplBenchmark, ACameraMeasuresExactlyThePeopleInsideItsImage) {
   options.detection_probability = 1.0;
   const Benchmark benchmark = build(options);
   std::map<std::string, std::pair<int, int>> measured_and_possible;  // by view
-  for (const BenchmarkSplit* split : splits_of(benchmark)) {
+  for (const auto& [name, split] : splits_of(benchmark)) {
     std::set<std::tuple<std::string, int, std::string, std::string>> measured;
     for (const Measurement& m : split->measurements)
       measured.insert({m.scene, frame_of(m.time), m.object, m.view});

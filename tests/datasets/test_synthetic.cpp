@@ -1,25 +1,19 @@
-// The synthetic benchmark layer: the portable random source (datasets/random.hpp), the benchmark
-// folder writer (datasets/benchmark_folder.hpp) and the synthetic generator (datasets/synthetic.hpp).
+// The synthetic benchmark (datasets/synthetic.hpp): motion, views, line-of-sight noise and misses.
 //
 // The statistical checks use fixed seeds and tolerances derived from the sampling distribution
 // (5 standard errors), so they are deterministic and still fail when the model is wrong.
 
 #include <gtest/gtest.h>
-#include <unistd.h>
 
 #include <Eigen/Cholesky>
 #include <Eigen/Eigenvalues>
 #include <algorithm>
-#include <atomic>
 #include <cmath>
-#include <filesystem>
-#include <fstream>
 #include <limits>
 #include <map>
 #include <nlohmann/json.hpp>
 #include <optional>
 #include <set>
-#include <sstream>
 #include <string>
 #include <tuple>
 #include <vector>
@@ -27,69 +21,27 @@
 #include "stgf/datasets/benchmark_folder.hpp"
 #include "stgf/datasets/random.hpp"
 #include "stgf/datasets/synthetic.hpp"
-#include "stgf/io/measurement_file.hpp"
-#include "stgf/io/truth_file.hpp"
+#include "support/benchmark_checks.hpp"
+#include "support/scratch_directory.hpp"
 
 namespace stgf {
 namespace {
-
-namespace fs = std::filesystem;
 
 constexpr double kPi = portable::kPi;
 
 // ── Helpers ──
 
-// A fresh empty directory under the system temporary directory, removed with everything in it.
-class ScratchDirectory {
- public:
-  ScratchDirectory() {
-    static std::atomic<int> counter{0};
-    path_ = fs::temp_directory_path() /
-            ("stgf-test-datasets-" + std::to_string(::getpid()) + "-" + std::to_string(counter++));
-    fs::remove_all(path_);
-    fs::create_directories(path_);
-  }
-  ~ScratchDirectory() {
-    std::error_code ignored;
-    fs::remove_all(path_, ignored);
-  }
-  ScratchDirectory(const ScratchDirectory&) = delete;
-  ScratchDirectory& operator=(const ScratchDirectory&) = delete;
-
-  const fs::path& path() const { return path_; }
-  std::string operator/(const std::string& name) const { return (path_ / name).string(); }
-
- private:
-  fs::path path_;
-};
-
-std::string file_bytes(const fs::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::ostringstream bytes;
-  bytes << in.rdbuf();
-  return bytes.str();
-}
-
-std::vector<std::string> entries_of(const fs::path& directory) {
-  std::vector<std::string> names;
-  for (const auto& entry : fs::directory_iterator(directory))
-    names.push_back(entry.path().filename().string());
-  std::sort(names.begin(), names.end());
-  return names;
-}
-
-const std::vector<std::string> kBenchmarkFiles = {
-    "benchmark.json", "train/measurements.csv", "train/truth.csv", "val/measurements.csv",
-    "val/truth.csv",  "test/measurements.csv",  "test/truth.csv"};
+using testing::file_bytes;
+using testing::kBenchmarkFiles;
+using testing::ScratchDirectory;
+using testing::splits_of;
+using testing::truth_by_key;
+using testing::TruthKey;
 
 // The default benchmark, generated once for the tests that only read it.
 const Benchmark& default_benchmark() {
   static const Benchmark benchmark = make_synthetic_benchmark(SyntheticOptions{});
   return benchmark;
-}
-
-std::vector<const BenchmarkSplit*> splits_of(const Benchmark& benchmark) {
-  return {&benchmark.train, &benchmark.val, &benchmark.test};
 }
 
 int step_of(double time, double rate_hz) { return static_cast<int>(std::lround(time * rate_hz)); }
@@ -129,125 +81,6 @@ bool same_split(const BenchmarkSplit& a, const BenchmarkSplit& b) {
   }
   return true;
 }
-
-// ═════════════════════════════ RandomStream and portable math ═════════════════════════════
-
-// splitmix64 is a published function; its first output for state 0 is a well-known constant.
-TEST(RandomStream, Splitmix64MatchesTheReferenceValue) { EXPECT_EQ(splitmix64(0), 0xE220A8397B1DCDAFULL); }
-
-// The numbers below were produced by this implementation; they pin the exact bits so that a change
-// of engine, seeding, or conversion (or a platform that computes differently) is caught.
-TEST(RandomStream, GoldenValuesPinTheBits) {
-  RandomStream random(42);
-  EXPECT_EQ(random.next_word(), 2576493707698874361ULL);
-  EXPECT_EQ(random.uniform01(), 0.9693205787161252);
-  EXPECT_EQ(random.uniform(-3.0, 5.0), 4.7615674548518108);
-  EXPECT_EQ(random.normal(), -1.0527957142746032);
-  EXPECT_EQ(random.normal(), 0.82644805844118496);
-  RandomStream child = RandomStream(42).child("train").child(3);
-  EXPECT_EQ(child.key(), 13970023401542520869ULL);
-  EXPECT_EQ(child.next_word(), 14000241428791717553ULL);
-}
-
-TEST(RandomStream, ChildDependsOnKeyAndLabelNotOnDrawsSoFar) {
-  RandomStream used(7);
-  for (int k = 0; k < 1000; ++k) used.normal();
-  RandomStream fresh(7);
-  RandomStream from_used = used.child("train");
-  RandomStream from_fresh = fresh.child("train");
-  for (int k = 0; k < 100; ++k) ASSERT_EQ(from_used.next_word(), from_fresh.next_word());
-
-  const std::set<std::uint64_t> keys = {fresh.child("train").key(),
-                                        fresh.child("val").key(),
-                                        fresh.child("test").key(),
-                                        fresh.child(0).key(),
-                                        fresh.child(1).key(),
-                                        RandomStream(8).child("train").key(),
-                                        fresh.child("train").child(1).key(),
-                                        fresh.child(1).child("train").key()};
-  EXPECT_EQ(keys.size(), 8u);
-}
-
-TEST(RandomStream, UniformHasTheMomentsOfU01) {
-  RandomStream random(3);
-  constexpr int kDraws = 200000;
-  double sum = 0.0;
-  double sum_of_squares = 0.0;
-  for (int k = 0; k < kDraws; ++k) {
-    const double u = random.uniform01();
-    ASSERT_GE(u, 0.0);
-    ASSERT_LT(u, 1.0);
-    sum += u;
-    sum_of_squares += u * u;
-  }
-  const double mean = sum / kDraws;
-  EXPECT_NEAR(mean, 0.5, 5.0 * std::sqrt(1.0 / 12.0 / kDraws));
-  EXPECT_NEAR(sum_of_squares / kDraws - mean * mean, 1.0 / 12.0, 5.0 * std::sqrt(1.0 / 180.0 / kDraws));
-
-  for (int k = 0; k < 1000; ++k) {
-    const double x = random.uniform(-2.0, 3.0);
-    ASSERT_GE(x, -2.0);
-    ASSERT_LT(x, 3.0);
-  }
-}
-
-TEST(RandomStream, NormalHasTheMomentsOfNZeroOne) {
-  RandomStream random(5);
-  constexpr int kDraws = 200000;
-  double sum = 0.0;
-  double sum_of_squares = 0.0;
-  double sum_of_fourth_powers = 0.0;
-  int within_one = 0;
-  for (int k = 0; k < kDraws; ++k) {
-    const double x = random.normal();
-    sum += x;
-    sum_of_squares += x * x;
-    sum_of_fourth_powers += x * x * x * x;
-    within_one += std::abs(x) < 1.0;
-  }
-  EXPECT_NEAR(sum / kDraws, 0.0, 5.0 / std::sqrt(kDraws));
-  EXPECT_NEAR(sum_of_squares / kDraws, 1.0, 5.0 * std::sqrt(2.0 / kDraws));
-  EXPECT_NEAR(sum_of_fourth_powers / kDraws, 3.0, 5.0 * std::sqrt(96.0 / kDraws));  // var of x⁴ = 105 − 9
-  const double inside = 0.682689492137;
-  EXPECT_NEAR(static_cast<double>(within_one) / kDraws, inside,
-              5.0 * std::sqrt(inside * (1 - inside) / kDraws));
-}
-
-TEST(RandomStream, BernoulliHasItsProbability) {
-  RandomStream random(11);
-  constexpr int kDraws = 100000;
-  int hits = 0;
-  for (int k = 0; k < kDraws; ++k) hits += random.bernoulli(0.3);
-  EXPECT_NEAR(static_cast<double>(hits) / kDraws, 0.3, 5.0 * std::sqrt(0.3 * 0.7 / kDraws));
-  for (int k = 0; k < 1000; ++k) {
-    ASSERT_FALSE(random.bernoulli(0.0));
-    ASSERT_TRUE(random.bernoulli(1.0));
-  }
-}
-
-// The portable functions agree with the C library to a few units in the last place.
-TEST(PortableMath, AgreesWithTheCLibrary) {
-  constexpr double kUlp = 2.220446049250313e-16;
-  for (int k = 0; k <= 20000; ++k) {
-    const double x = std::exp(-50.0 + 100.0 * k / 20000.0);
-    ASSERT_NEAR(portable::log(x), std::log(x), 4 * kUlp * std::max(1.0, std::abs(std::log(x)))) << x;
-    const double y = -60.0 + 120.0 * k / 20000.0;
-    ASSERT_NEAR(portable::exp(y), std::exp(y), 4 * kUlp * std::exp(y)) << y;
-    const double angle = -200.0 + 400.0 * k / 20000.0;
-    const portable::SineCosine sine_cosine = portable::sin_cos(angle);
-    ASSERT_NEAR(sine_cosine.sine, std::sin(angle), 4 * kUlp) << angle;
-    ASSERT_NEAR(sine_cosine.cosine, std::cos(angle), 4 * kUlp) << angle;
-  }
-  EXPECT_EQ(portable::log(1.0), 0.0);
-  EXPECT_EQ(portable::exp(0.0), 1.0);
-  EXPECT_EQ(portable::sin_cos(0.0).sine, 0.0);
-  EXPECT_EQ(portable::sin_cos(0.0).cosine, 1.0);
-  EXPECT_TRUE(std::isnan(portable::log(-1.0)));
-  EXPECT_EQ(portable::exp(-1000.0), 0.0);
-  EXPECT_TRUE(std::isinf(portable::exp(1000.0)));
-}
-
-// ═════════════════════════════ Synthetic benchmark ═════════════════════════════
 
 SyntheticOptions small_options(std::uint64_t seed) {
   SyntheticOptions options;
@@ -344,14 +177,13 @@ TEST(SyntheticBenchmark, CountsNamesAndTimesMatchTheOptions) {
   options.scenes = 4;
   options.rate_hz = 7.0;
   const Benchmark benchmark = make_synthetic_benchmark(options);
-  const std::vector<std::string> split_names = {"train", "val", "test"};
-  const std::vector<const BenchmarkSplit*> splits = splits_of(benchmark);
   const std::vector<SyntheticView> views = place_synthetic_views(options);
   ASSERT_EQ(views.size(), 3u);
 
-  for (std::size_t s = 0; s < splits.size(); ++s) {
-    const BenchmarkSplit& split = *splits[s];
-    SCOPED_TRACE(split_names[s]);
+  for (const auto& [name, split_pointer] : splits_of(benchmark)) {
+    const BenchmarkSplit& split = *split_pointer;
+    const std::string split_name = name;
+    SCOPED_TRACE(split_name);
     ASSERT_EQ(split.truth.size(), static_cast<std::size_t>(options.scenes * options.steps * options.objects));
 
     std::set<std::string> scenes;
@@ -367,8 +199,8 @@ TEST(SyntheticBenchmark, CountsNamesAndTimesMatchTheOptions) {
     }
     EXPECT_EQ(truth_keys.size(), split.truth.size()) << "every object at every step, once";
     const std::set<std::string> expected_scenes = {
-        "synthetic-" + split_names[s] + "-0000", "synthetic-" + split_names[s] + "-0001",
-        "synthetic-" + split_names[s] + "-0002", "synthetic-" + split_names[s] + "-0003"};
+        "synthetic-" + split_name + "-0000", "synthetic-" + split_name + "-0001",
+        "synthetic-" + split_name + "-0002", "synthetic-" + split_name + "-0003"};
     EXPECT_EQ(scenes, expected_scenes);
 
     std::set<std::string> objects;
@@ -420,10 +252,8 @@ TEST(SyntheticBenchmark, RawMeasurementErrorsMatchTheirCovariance) {
   int inside = 0;
   int count = 0;
   Eigen::Vector3d error_sum = Eigen::Vector3d::Zero();
-  for (const BenchmarkSplit* split : splits_of(benchmark)) {
-    std::map<std::tuple<std::string, double, std::string>, Vector3d> truth;
-    for (const TruthPoint& point : split->truth)
-      truth[{point.scene, point.time, point.object}] = point.position;
+  for (const auto& [name, split] : splits_of(benchmark)) {
+    const std::map<TruthKey, Vector3d> truth = truth_by_key(*split);
     for (const Measurement& measurement : split->measurements) {
       const Vector3d& true_position = truth.at({measurement.scene, measurement.time, measurement.object});
       const double nees = measurement.position.mahalanobis_squared(true_position);
@@ -501,7 +331,7 @@ TEST(SyntheticBenchmark, SomeMeasurementsAreMissedButMostObjectsAreSeen) {
   std::size_t measurements = 0;
   std::size_t object_steps = 0;
   std::set<std::tuple<std::string, double, std::string>> seen;
-  for (const BenchmarkSplit* split : splits_of(benchmark)) {
+  for (const auto& [name, split] : splits_of(benchmark)) {
     measurements += split->measurements.size();
     object_steps += split->truth.size();
     for (const Measurement& m : split->measurements) seen.emplace(m.scene, m.time, m.object);
@@ -520,7 +350,7 @@ TEST(SyntheticBenchmark, ObjectsTurnStopAndWalkOn) {
   int tracks_that_turn = 0;
   int tracks_that_stop = 0;
   int stops_then_walks = 0;
-  for (const BenchmarkSplit* split : splits_of(default_benchmark())) {
+  for (const auto& [name, split] : splits_of(default_benchmark())) {
     for (const auto& [key, track] : tracks_of(*split)) {
       ++tracks;
       bool turned = false;
@@ -551,7 +381,7 @@ TEST(SyntheticBenchmark, ObjectsTurnStopAndWalkOn) {
 
 TEST(SyntheticBenchmark, ObjectsStayInTheArea) {
   const SyntheticOptions options;
-  for (const BenchmarkSplit* split : splits_of(default_benchmark())) {
+  for (const auto& [name, split] : splits_of(default_benchmark())) {
     for (const TruthPoint& point : split->truth) {
       ASSERT_LE(point.position.head<2>().cwiseAbs().maxCoeff(), options.area_half_width_m + 1.0);
     }
@@ -562,7 +392,7 @@ TEST(SyntheticBenchmark, ObjectsStayInTheArea) {
 double close_pair_fraction(const Benchmark& benchmark, double distance) {
   long long pairs = 0;
   long long close = 0;
-  for (const BenchmarkSplit* split : splits_of(benchmark)) {
+  for (const auto& [name, split] : splits_of(benchmark)) {
     std::map<std::pair<std::string, double>, std::vector<Vector3d>> frames;
     for (const TruthPoint& point : split->truth) frames[{point.scene, point.time}].push_back(point.position);
     for (const auto& [key, positions] : frames) {
@@ -602,7 +432,7 @@ TEST(SyntheticBenchmark, MotionDoesNotDependOnTheFrameRate) {
     const Benchmark benchmark = make_synthetic_benchmark(options);
     double sum = 0.0;
     int count = 0;
-    for (const BenchmarkSplit* split : splits_of(benchmark)) {
+    for (const auto& [name, split] : splits_of(benchmark)) {
       for (const auto& [key, track] : tracks_of(*split)) {
         for (const Eigen::Vector2d& velocity : velocities_of(track, rate_hz)) {
           sum += velocity.norm();
@@ -688,118 +518,6 @@ TEST(SyntheticOptionsValidation, InvalidOptionsAreRejectedByName) {
   smallest.rate_hz = 0.5;
   const Benchmark benchmark = make_synthetic_benchmark(smallest);
   EXPECT_EQ(benchmark.test.truth.size(), 2u);
-}
-
-// ═════════════════════════════ Benchmark folder ═════════════════════════════
-
-TEST(BenchmarkFolder, WritesTheLayoutTheReadersAccept) {
-  ScratchDirectory scratch;
-  const Benchmark benchmark = make_synthetic_benchmark(small_options(4));
-  const std::string directory = scratch / "nested/bench";  // missing parents are created
-  write_benchmark_folder(directory, benchmark);
-
-  EXPECT_EQ(entries_of(directory), (std::vector<std::string>{"benchmark.json", "test", "train", "val"}));
-  EXPECT_EQ(entries_of(scratch.path() / "nested"), std::vector<std::string>{"bench"}) << "no temporary left";
-
-  const nlohmann::json description =
-      nlohmann::json::parse(file_bytes(fs::path(directory) / "benchmark.json"));
-  EXPECT_EQ(description["source"], "synthetic");
-  EXPECT_EQ(description["seed"], 4);
-  EXPECT_EQ(description["counts"]["val"], count_split(benchmark.val));
-  EXPECT_EQ(description["counts"]["test"]["truth_rows"], 2 * 10 * 3);
-
-  const std::vector<std::string> split_names = {"train", "val", "test"};
-  const std::vector<const BenchmarkSplit*> splits = splits_of(benchmark);
-  for (std::size_t s = 0; s < splits.size(); ++s) {
-    const MeasurementFile measurements =
-        read_measurements(directory + "/" + split_names[s] + "/measurements.csv");
-    const TruthFile truth = read_truth(directory + "/" + split_names[s] + "/truth.csv");
-    EXPECT_NO_THROW(check_truth_matches(measurements, truth));
-    ASSERT_EQ(measurements.rows.size(), splits[s]->measurements.size());
-    ASSERT_EQ(truth.rows.size(), splits[s]->truth.size());
-    EXPECT_TRUE(measurements.has_sensor_positions);
-    const Measurement& written = splits[s]->measurements.back();
-    const Measurement& read = measurements.rows.back();
-    EXPECT_EQ(read.scene, written.scene);
-    EXPECT_EQ(read.view, written.view);
-    EXPECT_LT((read.position.mean() - written.position.mean()).norm(), 1e-9);
-    EXPECT_LT((read.position.covariance() - written.position.covariance()).norm(),
-              1e-8 * written.position.covariance().norm());
-  }
-}
-
-TEST(BenchmarkFolder, ReplacesAPreviousBenchmark) {
-  ScratchDirectory scratch;
-  const std::string directory = scratch / "bench";
-  write_benchmark_folder(directory, make_synthetic_benchmark(small_options(1)));
-  const Benchmark second = make_synthetic_benchmark(small_options(2));
-  write_benchmark_folder(directory + "/", second);  // a trailing separator names the same folder
-
-  const nlohmann::json description =
-      nlohmann::json::parse(file_bytes(fs::path(directory) / "benchmark.json"));
-  EXPECT_EQ(description["seed"], 2);
-  EXPECT_EQ(read_truth(directory + "/train/truth.csv").rows.front().position.x(),
-            std::stod(format_position(second.train.truth.front().position.x())));
-  EXPECT_EQ(entries_of(scratch.path()), std::vector<std::string>{"bench"}) << "nothing left beside it";
-}
-
-TEST(BenchmarkFolder, RefusesADirectoryThatIsNotABenchmark) {
-  ScratchDirectory scratch;
-  const std::string directory = scratch / "photos";
-  fs::create_directory(directory);
-  { std::ofstream(fs::path(directory) / "holiday.jpg") << "precious"; }
-  try {
-    write_benchmark_folder(directory, make_synthetic_benchmark(small_options(1)));
-    FAIL() << "an unrelated directory was overwritten";
-  } catch (const std::runtime_error& error) {
-    EXPECT_EQ(std::string(error.what()),
-              directory + " exists and is not a stgf benchmark folder; remove it or choose another --out");
-  }
-  EXPECT_EQ(entries_of(directory), std::vector<std::string>{"holiday.jpg"});
-  EXPECT_EQ(file_bytes(fs::path(directory) / "holiday.jpg"), "precious");
-  EXPECT_EQ(entries_of(scratch.path()), std::vector<std::string>{"photos"});
-
-  const std::string file = scratch / "a-file";
-  { std::ofstream(file) << "x"; }
-  EXPECT_THROW(write_benchmark_folder(file, make_synthetic_benchmark(small_options(1))), std::runtime_error);
-  EXPECT_EQ(file_bytes(file), "x");
-}
-
-// A failure after the temporary folder is filled (here: a description that is not valid UTF-8, so
-// benchmark.json, written last, cannot be produced) leaves neither a temporary folder nor a
-// half-written benchmark, and a previous benchmark stays as it was.
-TEST(BenchmarkFolder, FailureLeavesNoTraceAndKeepsThePreviousBenchmark) {
-  ScratchDirectory scratch;
-  const std::string directory = scratch / "bench";
-  Benchmark broken = make_synthetic_benchmark(small_options(3));
-  broken.description["note"] = std::string("\xff\xfe not UTF-8");
-
-  EXPECT_ANY_THROW(write_benchmark_folder(directory, broken));
-  EXPECT_TRUE(entries_of(scratch.path()).empty());
-
-  write_benchmark_folder(directory, make_synthetic_benchmark(small_options(1)));
-  std::map<std::string, std::string> before;
-  for (const std::string& file : kBenchmarkFiles) before[file] = file_bytes(fs::path(directory) / file);
-  EXPECT_ANY_THROW(write_benchmark_folder(directory, broken));
-  EXPECT_EQ(entries_of(scratch.path()), std::vector<std::string>{"bench"});
-  for (const std::string& file : kBenchmarkFiles)
-    EXPECT_EQ(file_bytes(fs::path(directory) / file), before[file]);
-}
-
-TEST(BenchmarkFolder, CountsStepsWithinTheTimeTolerance) {
-  BenchmarkSplit split;
-  const Gaussian3 z = Gaussian3::from_covariance(Vector3d::Zero(), Matrix3d::Identity());
-  split.measurements.push_back({"a", 0.0, "v0", "o0", z, std::nullopt});
-  split.measurements.push_back({"a", 0.0000004, "v1", "o0", z, std::nullopt});  // same step
-  split.measurements.push_back({"a", 0.1, "v0", "o1", z, std::nullopt});
-  split.truth.push_back({"a", 0.2, "o0", Vector3d::Zero()});
-  split.truth.push_back({"b", 0.0, "o0", Vector3d::Zero()});
-  const nlohmann::json counts = count_split(split);
-  EXPECT_EQ(counts["scenes"], 2);
-  EXPECT_EQ(counts["steps"], 4);    // a: 0, 0.1, 0.2; b: 0
-  EXPECT_EQ(counts["objects"], 3);  // a/o0, a/o1, b/o0
-  EXPECT_EQ(counts["measurements"], 3);
-  EXPECT_EQ(counts["truth_rows"], 2);
 }
 
 }  // namespace

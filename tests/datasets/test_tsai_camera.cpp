@@ -2,11 +2,9 @@
 // PETS 2009 S2.L1 reader (datasets/pets2009.hpp) that turns the view-1 annotations into world points.
 
 #include <gtest/gtest.h>
-#include <unistd.h>
 
 #include <Eigen/Geometry>
 #include <algorithm>
-#include <atomic>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -19,45 +17,21 @@
 #include "stgf/datasets/random.hpp"
 #include "stgf/datasets/tsai_camera.hpp"
 #include "stgf/io/input_error.hpp"
+#include "support/input_errors.hpp"
+#include "support/scratch_directory.hpp"
 
 namespace stgf {
 namespace {
 
 namespace fs = std::filesystem;
+using testing::expect_input_error;
+using testing::ScratchDirectory;
 
 const std::string kSourceDirectory = std::string(STGF_DATA_DIR) + "/pets2009_s2l1";
 
 TsaiCamera camera_of_view(int view) {
   return read_tsai_camera(pets2009_calibration_path(kSourceDirectory, view));
 }
-
-// A fresh empty directory, removed with everything in it.
-class ScratchDirectory {
- public:
-  ScratchDirectory() {
-    static std::atomic<int> counter{0};
-    path_ = fs::temp_directory_path() /
-            ("stgf-test-tsai-" + std::to_string(::getpid()) + "-" + std::to_string(counter++));
-    fs::remove_all(path_);
-    fs::create_directories(path_);
-  }
-  ~ScratchDirectory() {
-    std::error_code ignored;
-    fs::remove_all(path_, ignored);
-  }
-  ScratchDirectory(const ScratchDirectory&) = delete;
-  ScratchDirectory& operator=(const ScratchDirectory&) = delete;
-
-  // Writes `text` to a file of that name and returns its path.
-  std::string write(const std::string& name, const std::string& text) const {
-    const std::string path = (path_ / name).string();
-    std::ofstream(path) << text;
-    return path;
-  }
-
- private:
-  fs::path path_;
-};
 
 // Ground points (z = 0) over the PETS world extent (x −20 … 7 m, y −16 … 7 m, data/SOURCES.md) and
 // beyond, on a grid.
@@ -300,19 +274,19 @@ std::string replaced(std::string text, const std::string& from, const std::strin
   return text.replace(at, from.size(), to);
 }
 
+// The InputError that `read` throws for a file `name` holding `text`: at `line`, saying `words`.
+template <typename Read>
+void expect_file_error(Read read, const std::string& name, const std::string& text, int line,
+                       const std::string& words) {
+  const ScratchDirectory directory;
+  const std::string path = directory.write(name, text);
+  const std::string message = expect_input_error([&] { read(path); }, path, line);
+  EXPECT_NE(message.find(words), std::string::npos) << "expected: " << words;
+}
+
 // The InputError that reading `text` as a calibration file throws.
 void expect_calibration_error(const std::string& text, int line, const std::string& words) {
-  const ScratchDirectory directory;
-  const std::string path = directory.write("View_bad.xml", text);
-  try {
-    read_tsai_camera(path);
-    ADD_FAILURE() << "no error for: " << words;
-  } catch (const InputError& error) {
-    EXPECT_EQ(error.file(), path);
-    EXPECT_EQ(error.line(), line) << error.what();
-    EXPECT_NE(std::string(error.what()).find(path), std::string::npos) << error.what();
-    EXPECT_NE(std::string(error.what()).find(words), std::string::npos) << error.what();
-  }
+  expect_file_error(read_tsai_camera, "View_bad.xml", text, line, words);
 }
 
 TEST(TsaiCamera, ReadsAGoodFile) {
@@ -465,17 +439,9 @@ constexpr const char* kGoodAnnotations =
     "   </frame>\n"
     "</dataset>\n";
 
+// The InputError that reading `text` as an annotation file throws.
 void expect_annotation_error(const std::string& text, int line, const std::string& words) {
-  const ScratchDirectory directory;
-  const std::string path = directory.write("annotations.xml", text);
-  try {
-    read_cvml_annotations(path);
-    ADD_FAILURE() << "no error for: " << words;
-  } catch (const InputError& error) {
-    EXPECT_EQ(error.file(), path);
-    EXPECT_EQ(error.line(), line) << error.what();
-    EXPECT_NE(std::string(error.what()).find(words), std::string::npos) << error.what();
-  }
+  expect_file_error(read_cvml_annotations, "annotations.xml", text, line, words);
 }
 
 TEST(Pets2009, ReadsFramesWithAndWithoutPeople) {

@@ -1,0 +1,77 @@
+#include "stgf/learn/learned_methods.hpp"
+
+#include <stdexcept>
+#include <string_view>
+#include <unordered_map>
+
+#include "stgf/core/multi_view_update.hpp"
+#include "stgf/core/steps.hpp"
+
+namespace stgf {
+namespace {
+
+constexpr std::size_t kGraphsPerForwardPass = 4096;
+
+// The fused measurement of each row's object at the row's step (information-weighted mean of all views).
+std::vector<Gaussian3> fused_measurements(std::span<const Measurement> measurements) {
+  std::vector<std::optional<Gaussian3>> fused(measurements.size());
+  for (const Scene& scene : group_into_scenes(measurements)) {
+    for (const Step& step : scene.steps) {
+      std::unordered_map<std::string_view, std::vector<std::size_t>> rows_of_object;
+      for (std::size_t row : step.rows) rows_of_object[measurements[row].object].push_back(row);
+      for (const auto& [object, rows] : rows_of_object) {
+        std::vector<Gaussian3> views;
+        for (std::size_t row : rows) views.push_back(measurements[row].position);
+        const Gaussian3 mean = information_weighted_mean(views);
+        for (std::size_t row : rows) fused[row] = mean;
+      }
+    }
+  }
+  std::vector<Gaussian3> result;
+  result.reserve(fused.size());
+  for (const auto& value : fused) result.push_back(*value);
+  return result;
+}
+
+}  // namespace
+
+HistorySource history_source_of_method(const std::string& method) {
+  if (method == "sttp") return HistorySource::kRawView;
+  if (method == "ours-l") return HistorySource::kFused;
+  throw std::invalid_argument("not a learned prediction method: '" + method + "' (known: sttp, ours-l)");
+}
+
+std::vector<Gaussian3> run_learned_method(const std::string& method, const MotionModel& model,
+                                          std::span<const Measurement> measurements) {
+  const HistorySource source = history_source_of_method(method);
+  const MotionGraphSet set = make_motion_graph_set(measurements, source, model.shape().history_length + 1);  // positions = intervals + 1
+
+  std::vector<std::vector<Vector3d>> predictions;
+  predictions.reserve(set.graphs.size());
+  for (std::size_t first = 0; first < set.graphs.size(); first += kGraphsPerForwardPass) {
+    const std::size_t count = std::min(kGraphsPerForwardPass, set.graphs.size() - first);
+    for (auto& graph : model.predict(std::span(set.graphs).subspan(first, count))) predictions.push_back(std::move(graph));
+  }
+
+  const std::vector<Gaussian3> starts =
+      source == HistorySource::kFused ? fused_measurements(measurements) : std::vector<Gaussian3>{};
+  const double speed = model.normalisation().speed;
+  std::vector<Gaussian3> estimates;
+  estimates.reserve(measurements.size());
+  for (std::size_t row = 0; row < measurements.size(); ++row) {
+    const auto& index = set.predictor_of_row[row];
+    if (!index) {
+      estimates.push_back(source == HistorySource::kFused ? starts[row] : measurements[row].position);
+      continue;
+    }
+    const MotionGraph& graph = set.graphs[index->graph];
+    const ObjectHistory& history = graph.objects[index->object];
+    const double dt = graph.target_time - history.times.back();
+    Matrix3d covariance = set.latest_covariances[index->graph][index->object] + model.process_noise(dt);
+    if (history.positions.size() == 1) covariance += (speed * dt) * (speed * dt) * Matrix3d::Identity();
+    estimates.push_back(Gaussian3::from_covariance(predictions[index->graph][index->object], covariance));
+  }
+  return estimates;
+}
+
+}  // namespace stgf

@@ -1,0 +1,368 @@
+#include "stgf/learn/motion_model.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <numeric>
+#include <stdexcept>
+
+#include <Eigen/Eigenvalues>
+#include <unistd.h>
+
+#include "stgf/io/input_error.hpp"
+#include "stgf/learn/motion_network.hpp"
+
+namespace stgf {
+namespace detail {
+namespace {
+
+constexpr int kMotionFeatures = 5;
+
+torch::Tensor float_tensor(const std::vector<float>& values, std::vector<int64_t> shape) {
+  return torch::from_blob(const_cast<float*>(values.data()), shape, torch::kFloat32).clone();
+}
+
+// Edges (j → i) of one graph of n objects starting at `first`: all pairs when small, else the k
+// nearest neighbours of each object; always the self-loop.
+void add_edges(const std::vector<Vector3d>& positions, std::size_t first, std::size_t n, const MotionModelShape& shape,
+               std::vector<int64_t>& source, std::vector<int64_t>& target) {
+  const auto full = static_cast<std::size_t>(shape.max_fully_connected);
+  const auto k = static_cast<std::size_t>(shape.nearest_neighbours);
+  std::vector<std::pair<double, std::size_t>> distances;
+  for (std::size_t i = 0; i < n; ++i) {
+    if (n <= full) {
+      for (std::size_t j = 0; j < n; ++j) {
+        source.push_back(static_cast<int64_t>(first + j));
+        target.push_back(static_cast<int64_t>(first + i));
+      }
+      continue;
+    }
+    distances.clear();
+    for (std::size_t j = 0; j < n; ++j) {
+      if (j != i) distances.emplace_back((positions[first + j] - positions[first + i]).squaredNorm(), j);
+    }
+    const std::size_t count = std::min(k, distances.size());
+    std::partial_sort(distances.begin(), distances.begin() + static_cast<std::ptrdiff_t>(count), distances.end());
+    source.push_back(static_cast<int64_t>(first + i));
+    target.push_back(static_cast<int64_t>(first + i));
+    for (std::size_t m = 0; m < count; ++m) {
+      source.push_back(static_cast<int64_t>(first + distances[m].second));
+      target.push_back(static_cast<int64_t>(first + i));
+    }
+  }
+}
+
+}  // namespace
+
+MotionBatch make_motion_batch(std::span<const MotionGraph> graphs, const MotionModelShape& shape,
+                              const MotionNormalisation& normalisation) {
+  const int history = shape.history_length;
+  MotionBatch batch;
+  std::vector<float> motion, last_velocity, horizon;
+  batch.graph_offsets.push_back(0);
+  for (const MotionGraph& graph : graphs) {
+    for (const ObjectHistory& object : graph.objects) {
+      const std::size_t points = object.positions.size();
+      if (points == 0 || object.times.size() != points) {
+        throw std::invalid_argument("motion graph: object '" + object.object + "' has no or inconsistent history");
+      }
+      const double last_time = object.times.back();
+      const double dt = graph.target_time - last_time;
+      if (!(dt > 0.0)) {
+        throw std::invalid_argument("motion graph: object '" + object.object +
+                                    "' has history at or after the target time");
+      }
+      // Intervals k = points−1 … 1, newest last; pad the front.
+      const int intervals = static_cast<int>(points) - 1;
+      const int used = std::min(intervals, history);
+      for (int slot = 0; slot < history - used; ++slot) motion.insert(motion.end(), kMotionFeatures, 0.0f);
+      Vector3d velocity = Vector3d::Zero();
+      for (int k = intervals - used + 1; k <= intervals; ++k) {
+        const double step = object.times[k] - object.times[k - 1];
+        if (!(step > 0.0)) throw std::invalid_argument("motion graph: history times must increase");
+        velocity = (object.positions[k] - object.positions[k - 1]) / step;
+        for (int axis = 0; axis < 3; ++axis) motion.push_back(static_cast<float>(velocity(axis) / normalisation.speed));
+        motion.push_back(static_cast<float>(step / normalisation.period));
+        motion.push_back(1.0f);
+      }
+      if (intervals == 0) velocity.setZero();
+      for (int axis = 0; axis < 3; ++axis) last_velocity.push_back(static_cast<float>(velocity(axis) / normalisation.speed));
+      horizon.push_back(static_cast<float>(dt / normalisation.period));
+      batch.last_positions.push_back(object.positions.back());
+      batch.horizons.push_back(dt);
+    }
+    batch.graph_offsets.push_back(batch.last_positions.size());
+  }
+  const auto n = static_cast<int64_t>(batch.last_positions.size());
+  std::vector<int64_t> source, target;
+  for (std::size_t g = 0; g + 1 < batch.graph_offsets.size(); ++g) {
+    add_edges(batch.last_positions, batch.graph_offsets[g], batch.graph_offsets[g + 1] - batch.graph_offsets[g], shape,
+              source, target);
+  }
+  std::vector<float> offset;
+  offset.reserve(source.size() * 3);
+  for (std::size_t e = 0; e < source.size(); ++e) {
+    const Vector3d d = (batch.last_positions[static_cast<std::size_t>(source[e])] -
+                        batch.last_positions[static_cast<std::size_t>(target[e])]) /
+                       normalisation.length;
+    for (int axis = 0; axis < 3; ++axis) offset.push_back(static_cast<float>(d(axis)));
+  }
+  batch.motion = float_tensor(motion, {n, history, kMotionFeatures});
+  batch.last_velocity = float_tensor(last_velocity, {n, 3});
+  batch.horizon = float_tensor(horizon, {n, 1});
+  const auto edges = static_cast<int64_t>(source.size());
+  batch.edge_source = torch::from_blob(source.data(), {edges}, torch::kInt64).clone();
+  batch.edge_target = torch::from_blob(target.data(), {edges}, torch::kInt64).clone();
+  batch.edge_offset = float_tensor(offset, {edges, 3});
+  return batch;
+}
+
+GraphAttentionImpl::GraphAttentionImpl(int in_features, int out_features)
+    : transform_(register_module("transform", torch::nn::Linear(torch::nn::LinearOptions(in_features, out_features).bias(false)))),
+      offset_transform_(register_module("offset_transform", torch::nn::Linear(3, out_features))),
+      score_self_(register_module("score_self", torch::nn::Linear(torch::nn::LinearOptions(out_features, 1).bias(false)))),
+      score_message_(register_module("score_message", torch::nn::Linear(torch::nn::LinearOptions(out_features, 1).bias(false)))) {}
+
+torch::Tensor GraphAttentionImpl::forward(const torch::Tensor& h, const torch::Tensor& source,
+                                          const torch::Tensor& target, const torch::Tensor& offset) {
+  const int64_t n = h.size(0);
+  const torch::Tensor wh = transform_(h);                                                  // W h
+  const torch::Tensor message = wh.index_select(0, source) + offset_transform_(offset);   // [E, out]
+  const torch::Tensor score = torch::leaky_relu(score_self_(wh).index_select(0, target) + score_message_(message), 0.2)
+                                  .squeeze(1);                                             // [E]
+  // Softmax over the edges that end at the same object. Scores are clamped to ±30 so exp cannot
+  // overflow (e^60 is already a certainty in a softmax), which spares the per-object max shift.
+  const torch::Tensor weight = score.clamp(-30.0, 30.0).exp();
+  const torch::Tensor total = torch::zeros({n}, score.options()).index_add(0, target, weight);
+  const torch::Tensor alpha = weight / total.index_select(0, target);
+  const torch::Tensor aggregated =
+      torch::zeros({n, message.size(1)}, message.options()).index_add(0, target, message * alpha.unsqueeze(1));
+  return torch::elu(aggregated);
+}
+
+MotionNetworkImpl::MotionNetworkImpl(const MotionModelShape& shape)
+    : embed_(register_module("embed", torch::nn::Linear(kMotionFeatures, shape.embedding))),
+      encoder_(register_module(
+          "encoder", torch::nn::LSTM(torch::nn::LSTMOptions(shape.embedding, shape.hidden).batch_first(true)))),
+      attention1_(register_module("attention1", GraphAttention(shape.hidden, shape.attention_hidden))),
+      attention2_(register_module("attention2", GraphAttention(shape.attention_hidden, shape.hidden))),
+      decoder_(register_module("decoder", torch::nn::LSTMCell(2 * shape.hidden + 3 + 1, shape.hidden))),
+      head_(register_module("head", torch::nn::Linear(shape.hidden, 3))) {
+  // A small head: the untrained network is close to the constant-velocity model.
+  torch::NoGradGuard no_grad;
+  head_->weight.mul_(0.01);
+  head_->bias.zero_();
+}
+
+torch::Tensor MotionNetworkImpl::forward(const MotionBatch& batch) {
+  const torch::Tensor embedded = torch::relu(embed_(batch.motion));                 // [N, H, E]
+  const auto [sequence, state] = encoder_(embedded);
+  const torch::Tensor motion_embedding = std::get<0>(state).squeeze(0);            // m: [N, hidden]
+  const torch::Tensor cell = std::get<1>(state).squeeze(0);
+  const torch::Tensor spatial = attention2_(
+      attention1_(motion_embedding, batch.edge_source, batch.edge_target, batch.edge_offset), batch.edge_source,
+      batch.edge_target, batch.edge_offset);                                        // s: [N, hidden]
+  const torch::Tensor input = torch::cat({motion_embedding, spatial, batch.last_velocity, batch.horizon}, 1);
+  const auto [decoded, decoded_cell] = decoder_(input, std::make_tuple(motion_embedding, cell));
+  return batch.last_velocity + head_(decoded);
+}
+
+}  // namespace detail
+
+// ── MotionModel ────────────────────────────────────────────────────────────────────────────────────
+
+namespace {
+
+constexpr const char* kFormat = "stgf-motion-model";
+constexpr int kFormatVersion = 1;
+
+nlohmann::json shape_json(const MotionModelShape& s) {
+  return {{"history_length", s.history_length}, {"embedding", s.embedding}, {"hidden", s.hidden},
+          {"attention_hidden", s.attention_hidden}, {"max_fully_connected", s.max_fully_connected},
+          {"nearest_neighbours", s.nearest_neighbours}};
+}
+
+MotionModelShape shape_from(const nlohmann::json& j) {
+  MotionModelShape s;
+  s.history_length = j.at("history_length").get<int>();
+  s.embedding = j.at("embedding").get<int>();
+  s.hidden = j.at("hidden").get<int>();
+  s.attention_hidden = j.at("attention_hidden").get<int>();
+  s.max_fully_connected = j.at("max_fully_connected").get<int>();
+  s.nearest_neighbours = j.at("nearest_neighbours").get<int>();
+  if (s.history_length < 1 || s.embedding < 1 || s.hidden < 1 || s.attention_hidden < 1 ||
+      s.max_fully_connected < 1 || s.nearest_neighbours < 1) {
+    throw std::invalid_argument("shape has a size below 1");
+  }
+  return s;
+}
+
+nlohmann::json matrix_json(const Matrix3d& m) {
+  return {{m(0, 0), m(0, 1), m(0, 2)}, {m(1, 0), m(1, 1), m(1, 2)}, {m(2, 0), m(2, 1), m(2, 2)}};
+}
+
+Matrix3d matrix_from(const nlohmann::json& j) {
+  Matrix3d m;
+  for (int r = 0; r < 3; ++r) {
+    for (int c = 0; c < 3; ++c) m(r, c) = j.at(r).at(c).get<double>();
+  }
+  return m;
+}
+
+}  // namespace
+
+MotionModel::MotionModel(std::unique_ptr<Impl> impl) : impl_(std::move(impl)) {}
+
+MotionModel::MotionModel(const MotionModelShape& shape, const MotionNormalisation& normalisation, std::uint64_t seed)
+    : impl_(std::make_unique<Impl>()) {
+  torch::manual_seed(seed);
+  impl_->shape = shape;
+  impl_->normalisation = normalisation;
+  impl_->network = detail::MotionNetwork(shape);
+}
+
+MotionModel::~MotionModel() = default;
+MotionModel::MotionModel(MotionModel&&) noexcept = default;
+MotionModel& MotionModel::operator=(MotionModel&&) noexcept = default;
+
+void MotionModel::Impl::save(const std::string& path, const nlohmann::json& extra_metadata,
+                             torch::optim::Optimizer* optimizer) const {
+  nlohmann::json config = {
+      {"shape", shape_json(shape)},
+      {"normalisation", {{"speed", normalisation.speed}, {"period", normalisation.period}, {"length", normalisation.length}}},
+      {"process_noise", {{"reference", matrix_json(process_noise_reference)}, {"period", process_noise_period}}},
+      {"metadata", extra_metadata.is_null() ? metadata : extra_metadata}};
+  torch::serialize::OutputArchive archive;
+  archive.write("format", c10::IValue(std::string(kFormat)));
+  archive.write("version", c10::IValue(static_cast<int64_t>(kFormatVersion)));
+  archive.write("config", c10::IValue(config.dump()));
+  torch::serialize::OutputArchive network_archive;
+  network->save(network_archive);
+  archive.write("network", network_archive);
+  if (optimizer != nullptr) {
+    torch::serialize::OutputArchive optimizer_archive;
+    optimizer->save(optimizer_archive);
+    archive.write("optimizer", optimizer_archive);
+  }
+  // Whole or not at all: write beside the target, then rename.
+  const std::string temporary = path + ".tmp." + std::to_string(::getpid());
+  try {
+    archive.save_to(temporary);
+  } catch (const c10::Error& error) {
+    std::filesystem::remove(temporary);
+    throw std::runtime_error(path + ": cannot write the model: " + error.what_without_backtrace());
+  }
+  std::filesystem::rename(temporary, path);
+}
+
+void MotionModel::save(const std::string& path, const nlohmann::json& metadata) const {
+  impl_->save(path, metadata, nullptr);
+}
+
+MotionModel MotionModel::load(const std::string& path) {
+  if (!std::filesystem::exists(path)) throw InputError(path, 0, "no such model file");
+  torch::serialize::InputArchive archive;
+  try {
+    archive.load_from(path);
+  } catch (const c10::Error&) {
+    throw InputError(path, 0, "not a readable model file (corrupt, or not written by stgf train)");
+  }
+  c10::IValue format, config_text;
+  if (!archive.try_read("format", format) || !format.isString() || format.toStringRef() != kFormat) {
+    throw InputError(path, 0, "not a stgf motion model (no '" + std::string(kFormat) + "' marker)");
+  }
+  c10::IValue version;
+  if (!archive.try_read("version", version) || !version.isInt() || version.toInt() != kFormatVersion) {
+    throw InputError(path, 0, "model file version is not " + std::to_string(kFormatVersion));
+  }
+  auto impl = std::make_unique<Impl>();
+  try {
+    archive.read("config", config_text);
+    const nlohmann::json config = nlohmann::json::parse(config_text.toStringRef());
+    impl->shape = shape_from(config.at("shape"));
+    const auto& n = config.at("normalisation");
+    impl->normalisation = {n.at("speed").get<double>(), n.at("period").get<double>(), n.at("length").get<double>()};
+    impl->process_noise_reference = matrix_from(config.at("process_noise").at("reference"));
+    impl->process_noise_period = config.at("process_noise").at("period").get<double>();
+    impl->metadata = config.at("metadata");
+  } catch (const std::exception& error) {
+    throw InputError(path, 0, std::string("model configuration is invalid: ") + error.what());
+  }
+  impl->network = detail::MotionNetwork(impl->shape);
+  // Module::load would adopt whatever shapes the file holds; check them against the stated shape.
+  std::vector<std::pair<std::string, std::vector<int64_t>>> expected;
+  for (const auto& item : impl->network->named_parameters()) {
+    expected.emplace_back(item.key(), item.value().sizes().vec());
+  }
+  try {
+    torch::serialize::InputArchive network_archive;
+    archive.read("network", network_archive);
+    impl->network->load(network_archive);
+  } catch (const c10::Error& error) {
+    throw InputError(path, 0, std::string("model weights are missing or unreadable: ") + error.what_without_backtrace());
+  }
+  const auto parameters = impl->network->named_parameters();
+  for (const auto& [name, sizes] : expected) {
+    const torch::Tensor* loaded = parameters.find(name);
+    if (loaded == nullptr || loaded->sizes().vec() != sizes) {
+      throw InputError(path, 0, "model weights do not match its stated shape (parameter '" + name + "')");
+    }
+    if (!torch::isfinite(*loaded).all().item<bool>()) {
+      throw InputError(path, 0, "model parameter '" + name + "' is not finite");
+    }
+  }
+  if (!impl->process_noise_reference.allFinite() || !(impl->process_noise_period > 0.0)) {
+    throw InputError(path, 0, "model process noise is invalid");
+  }
+  return MotionModel(std::move(impl));
+}
+
+std::vector<std::vector<Vector3d>> MotionModel::Impl::positions_from(const detail::MotionBatch& batch,
+                                                                   const torch::Tensor& velocity) const {
+  const torch::Tensor v = velocity.to(torch::kFloat64).contiguous();
+  const double* values = v.data_ptr<double>();
+  std::vector<std::vector<Vector3d>> positions(batch.graph_offsets.size() - 1);
+  for (std::size_t g = 0; g + 1 < batch.graph_offsets.size(); ++g) {
+    for (std::size_t i = batch.graph_offsets[g]; i < batch.graph_offsets[g + 1]; ++i) {
+      const Vector3d predicted_velocity =
+          normalisation.speed * Vector3d(values[3 * i], values[3 * i + 1], values[3 * i + 2]);
+      positions[g].push_back(batch.last_positions[i] + predicted_velocity * batch.horizons[i]);
+    }
+  }
+  return positions;
+}
+
+std::vector<std::vector<Vector3d>> MotionModel::predict(std::span<const MotionGraph> graphs) const {
+  if (graphs.empty()) return {};
+  const detail::MotionBatch batch = detail::make_motion_batch(graphs, impl_->shape, impl_->normalisation);
+  if (batch.last_positions.empty()) return std::vector<std::vector<Vector3d>>(graphs.size());
+  torch::NoGradGuard no_grad;
+  impl_->network->eval();
+  return impl_->positions_from(batch, impl_->network->forward(batch));
+}
+
+Matrix3d MotionModel::process_noise(double dt) const {
+  const double ratio = dt / impl_->process_noise_period;
+  return impl_->process_noise_reference * (ratio * ratio);
+}
+
+void MotionModel::set_process_noise(const Matrix3d& reference, double reference_period) {
+  if (!reference.allFinite() || !(reference_period > 0.0)) throw std::invalid_argument("process noise is invalid");
+  impl_->process_noise_reference = reference;
+  impl_->process_noise_period = reference_period;
+}
+
+const MotionModelShape& MotionModel::shape() const { return impl_->shape; }
+const MotionNormalisation& MotionModel::normalisation() const { return impl_->normalisation; }
+nlohmann::json MotionModel::metadata() const { return impl_->metadata; }
+
+bool load_optimizer_state(const std::string& path, torch::optim::Optimizer& optimizer) {
+  torch::serialize::InputArchive archive;
+  archive.load_from(path);
+  torch::serialize::InputArchive optimizer_archive;
+  if (!archive.try_read("optimizer", optimizer_archive)) return false;
+  optimizer.load(optimizer_archive);
+  return true;
+}
+
+}  // namespace stgf

@@ -1,0 +1,96 @@
+#pragma once
+// The learned motion model Φ of the spatiotemporal graph filter (DESIGN §1.1–1.2), behind an
+// interface that keeps LibTorch out of every public header.
+//
+// For each object of a MotionGraph, Φ predicts where it will be at the graph's target time:
+//
+//   input     per history interval k: velocity v_k = (p_k − p_{k−1}) / Δt_k (m/s), Δt_k (s) and a
+//             flag saying whether the interval exists (short histories are padded at the start);
+//             per object: its last position (for relative positions between neighbours) and the
+//             time to predict ahead, Δt = target_time − t_last.
+//   encoder   Linear(5→16) + ReLU, then an LSTM (hidden 32) over the H intervals: motion embedding m_i.
+//   spatial   two graph-attention layers over the objects of the graph (edges: all pairs for graphs
+//             of up to `max_fully_connected` objects, else each object's k nearest, plus self-loops):
+//               message_ji = W h_j + U (p_j − p_i) / s_p
+//               score_ji   = LeakyReLU(a_selfᵀ W h_i + a_msgᵀ message_ji)
+//               α_ji       = softmax over the neighbours j of i of score_ji     (paper Eqs. 7–8)
+//               h'_i       = ELU(Σ_j α_ji message_ji)
+//             sizes 32→16 and 16→32 (the paper's 16×16 and 16×32 do not fit m of size 32): s_i.
+//   decoder   an LSTM cell (hidden 32) started from the encoder's state, fed with m_i ‖ s_i ‖ v_last ‖ Δt,
+//             whose output maps (Linear 32→3) to a velocity correction δ:
+//               v̂ = v_last + s_v δ,     x̂ = p_last + v̂ Δt
+//             so an untrained Φ is the constant-velocity model, and rates it has not seen still give
+//             sensible predictions (everything is per second).
+// Inputs are scaled by the training data's typical speed s_v, step period s_t and a length s_p,
+// stored in the model file.
+//
+// Process noise (DESIGN §1.2): Q is calibrated after training from Φ's one-step residuals
+// r = y − x̂ on the validation split, Q_ref = E[r rᵀ] − E[P_last] (the part of the error the
+// history's own uncertainty does not explain; eigenvalues floored at 1e-6 m²), at the validation
+// split's median prediction interval Δt_ref. For another interval, Q(Δt) = Q_ref (Δt / Δt_ref)²
+// (unmodelled acceleration). The user can override Q_ref.
+
+#include <memory>
+#include <span>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "stgf/learn/motion_graph.hpp"
+
+namespace stgf {
+
+struct MotionModelShape {
+  int history_length = 8;        // H: history intervals the encoder sees
+  int embedding = 16;            // input embedding
+  int hidden = 32;               // encoder and decoder LSTM hidden size (m_i)
+  int attention_hidden = 16;     // first graph-attention layer's output (the second outputs `hidden`)
+  int max_fully_connected = 16;  // graphs up to this size are fully connected
+  int nearest_neighbours = 8;    // larger graphs: each object attends to its k nearest (and itself)
+};
+
+// How inputs are scaled; measured on the training data.
+struct MotionNormalisation {
+  double speed = 1.0;     // s_v (m/s)
+  double period = 0.1;    // s_t (s)
+  double length = 5.0;    // s_p (m)
+};
+
+class MotionModel {
+ public:
+  // A new model with random weights drawn from `seed`.
+  MotionModel(const MotionModelShape& shape, const MotionNormalisation& normalisation, std::uint64_t seed);
+  ~MotionModel();
+  MotionModel(MotionModel&&) noexcept;
+  MotionModel& operator=(MotionModel&&) noexcept;
+
+  // Reads a model file written by save(). Throws InputError ("PATH: reason") when the file is
+  // missing, corrupt, not a stgf motion model, or its weights do not match its stated shape.
+  static MotionModel load(const std::string& path);
+  // Writes weights, shape, normalisation, Q and `metadata` (any JSON object) to `path`, whole or not at all.
+  void save(const std::string& path, const nlohmann::json& metadata = nlohmann::json::object()) const;
+
+  // Predicted positions at each graph's target time, per graph and object, in order. Graphs are
+  // batched into one forward pass. An object with a single history position gets Φ's prediction
+  // with zero velocity input (in practice: the constant-position model plus what its neighbours say).
+  std::vector<std::vector<Vector3d>> predict(std::span<const MotionGraph> graphs) const;
+
+  // Q for a prediction interval of `dt` seconds.
+  Matrix3d process_noise(double dt) const;
+  void set_process_noise(const Matrix3d& reference, double reference_period);
+
+  const MotionModelShape& shape() const;
+  const MotionNormalisation& normalisation() const;
+  nlohmann::json metadata() const;  // as stored in the file (empty for a new model)
+
+  struct Impl;
+  Impl& impl() { return *impl_; }
+  const Impl& impl() const { return *impl_; }
+
+ private:
+  explicit MotionModel(std::unique_ptr<Impl> impl);
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace stgf

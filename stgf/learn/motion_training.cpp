@@ -1,0 +1,277 @@
+#include "stgf/learn/motion_training.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <numeric>
+#include <random>
+#include <stdexcept>
+#include <thread>
+
+#include <Eigen/Eigenvalues>
+
+#include "stgf/core/cholesky3.hpp"
+#include "stgf/learn/motion_network.hpp"
+
+namespace stgf {
+namespace {
+
+constexpr int kValidationBatchGraphs = 512;
+constexpr double kProcessNoiseFloor = 1e-6;  // m², smallest eigenvalue of a calibrated Q
+
+struct Targets {
+  torch::Tensor displacement;  // [N, 3]: y − p_last (m)
+  torch::Tensor horizon;       // [N, 1]: Δt (s)
+};
+
+Targets targets_of(const std::vector<const TrainingGraph*>& graphs, const detail::MotionBatch& batch) {
+  std::vector<float> displacement, horizon;
+  std::size_t object = 0;
+  for (const TrainingGraph* graph : graphs) {
+    for (const Vector3d& target : graph->targets) {
+      const Vector3d d = target - batch.last_positions[object];
+      for (int axis = 0; axis < 3; ++axis) displacement.push_back(static_cast<float>(d(axis)));
+      horizon.push_back(static_cast<float>(batch.horizons[object]));
+      ++object;
+    }
+  }
+  const auto n = static_cast<int64_t>(object);
+  return {torch::from_blob(displacement.data(), {n, 3}, torch::kFloat32).clone(),
+          torch::from_blob(horizon.data(), {n, 1}, torch::kFloat32).clone()};
+}
+
+// Per-object Euclidean error of the predicted displacement v̂ Δt against the true one.
+torch::Tensor euclidean_errors(const torch::Tensor& velocity, const MotionNormalisation& normalisation,
+                               const Targets& targets) {
+  const torch::Tensor predicted = velocity * normalisation.speed * targets.horizon;
+  return (predicted - targets.displacement).pow(2).sum(1).add(1e-12).sqrt();
+}
+
+std::vector<MotionGraph> graphs_of(const std::vector<const TrainingGraph*>& graphs) {
+  std::vector<MotionGraph> result;
+  result.reserve(graphs.size());
+  for (const TrainingGraph* graph : graphs) result.push_back(graph->graph);
+  return result;
+}
+
+// The graph with its history replaced by truth + N(0, P_k) for each history point.
+TrainingGraph with_matched_noise(const TrainingGraph& source, std::mt19937_64& random) {
+  std::normal_distribution<double> normal;
+  TrainingGraph noisy = source;
+  for (std::size_t i = 0; i < noisy.graph.objects.size(); ++i) {
+    ObjectHistory& history = noisy.graph.objects[i];
+    for (std::size_t k = 0; k < history.positions.size(); ++k) {
+      const Cholesky3 cholesky(source.history_covariances[i][k]);
+      if (!cholesky.ok()) throw std::invalid_argument("training graph: history covariance is not positive definite");
+      const double a = normal(random), b = normal(random), c = normal(random);
+      history.positions[k] = source.true_histories[i][k] + cholesky.matrix_l() * Vector3d(a, b, c);
+    }
+  }
+  return noisy;
+}
+
+void check_graphs(const std::vector<TrainingGraph>& graphs, const char* name) {
+  std::size_t objects = 0;
+  for (const TrainingGraph& graph : graphs) {
+    if (graph.targets.size() != graph.graph.objects.size() || graph.true_histories.size() != graph.targets.size() ||
+        graph.history_covariances.size() != graph.targets.size()) {
+      throw std::invalid_argument(std::string(name) + " graphs: targets and histories do not match the objects");
+    }
+    objects += graph.targets.size();
+  }
+  if (objects == 0) throw std::invalid_argument(std::string(name) + " data has no object to predict");
+}
+
+std::size_t count_objects(const std::vector<TrainingGraph>& graphs) {
+  std::size_t objects = 0;
+  for (const TrainingGraph& graph : graphs) objects += graph.targets.size();
+  return objects;
+}
+
+// Q_ref = E[r rᵀ] − E[P_last], eigenvalues floored.
+Matrix3d calibrated_process_noise(const Matrix3d& residual_moment, const Matrix3d& mean_history_covariance) {
+  const Matrix3d difference = symmetrised(residual_moment - mean_history_covariance);
+  Eigen::SelfAdjointEigenSolver<Matrix3d> eigen(difference);
+  const Vector3d floored = eigen.eigenvalues().cwiseMax(kProcessNoiseFloor);
+  return symmetrised(eigen.eigenvectors() * floored.asDiagonal() * eigen.eigenvectors().transpose());
+}
+
+}  // namespace
+
+MotionNormalisation measure_normalisation(const std::vector<TrainingGraph>& graphs) {
+  double speed_squares = 0.0;
+  std::size_t velocities = 0;
+  std::vector<double> periods;
+  for (const TrainingGraph& graph : graphs) {
+    for (const ObjectHistory& history : graph.graph.objects) {
+      for (std::size_t k = 1; k < history.positions.size(); ++k) {
+        const double dt = history.times[k] - history.times[k - 1];
+        if (!(dt > 0.0)) continue;
+        speed_squares += ((history.positions[k] - history.positions[k - 1]) / dt).squaredNorm();
+        ++velocities;
+        periods.push_back(dt);
+      }
+    }
+  }
+  MotionNormalisation normalisation;
+  if (velocities > 0) normalisation.speed = std::max(0.1, std::sqrt(speed_squares / static_cast<double>(velocities)));
+  if (!periods.empty()) {
+    std::nth_element(periods.begin(), periods.begin() + static_cast<std::ptrdiff_t>(periods.size() / 2), periods.end());
+    normalisation.period = periods[periods.size() / 2];
+  }
+  return normalisation;
+}
+
+double constant_velocity_error(const std::vector<TrainingGraph>& graphs) {
+  double total = 0.0;
+  std::size_t objects = 0;
+  for (const TrainingGraph& graph : graphs) {
+    for (std::size_t i = 0; i < graph.graph.objects.size(); ++i) {
+      const ObjectHistory& history = graph.graph.objects[i];
+      const std::size_t n = history.positions.size();
+      Vector3d velocity = Vector3d::Zero();
+      if (n >= 2) velocity = (history.positions[n - 1] - history.positions[n - 2]) / (history.times[n - 1] - history.times[n - 2]);
+      const Vector3d predicted = history.positions.back() + velocity * (graph.graph.target_time - history.times.back());
+      total += (predicted - graph.targets[i]).norm();
+      ++objects;
+    }
+  }
+  return objects == 0 ? 0.0 : total / static_cast<double>(objects);
+}
+
+TrainingReport train_motion_model(const std::vector<TrainingGraph>& train, const std::vector<TrainingGraph>& validation,
+                                  const MotionTrainingOptions& options, const std::string& model_path,
+                                  const std::function<void(const TrainingProgress&)>& progress) {
+  if (options.epochs < 1) throw std::invalid_argument("--epochs must be at least 1");
+  if (options.batch_graphs < 1) throw std::invalid_argument("--batch must be at least 1");
+  if (!(options.learning_rate > 0.0)) throw std::invalid_argument("--lr must be > 0");
+  check_graphs(train, "training");
+  check_graphs(validation, "validation");
+  torch::set_num_threads(options.threads > 0 ? options.threads
+                                             : static_cast<int>(std::max(1u, std::thread::hardware_concurrency())));
+
+  MotionModel model = options.resume.empty()
+                          ? MotionModel(options.shape, measure_normalisation(train), options.seed)
+                          : MotionModel::load(options.resume);
+  MotionModel::Impl& impl = model.impl();
+  torch::optim::Adam optimizer(impl.network->parameters(), torch::optim::AdamOptions(options.learning_rate));
+  int first_epoch = 1;
+  double best_error = std::numeric_limits<double>::infinity();
+  if (!options.resume.empty()) {
+    load_optimizer_state(options.resume, optimizer);
+    const nlohmann::json& stored = impl.metadata;
+    first_epoch = stored.value("epoch", 0) + 1;
+    best_error = stored.value("best_validation_error", best_error);
+  }
+
+  TrainingReport report;
+  report.train_objects = count_objects(train);
+  report.validation_objects = count_objects(validation);
+  report.constant_velocity_validation_error = constant_velocity_error(validation);
+
+  // Validation batches are fixed; so is E[P_last] and the reference period for Q.
+  std::vector<std::vector<const TrainingGraph*>> validation_batches;
+  Matrix3d mean_history_covariance = Matrix3d::Zero();
+  std::vector<double> horizons;
+  for (std::size_t g = 0; g < validation.size(); ++g) {
+    if (g % kValidationBatchGraphs == 0) validation_batches.emplace_back();
+    validation_batches.back().push_back(&validation[g]);
+    const TrainingGraph& graph = validation[g];
+    for (std::size_t i = 0; i < graph.targets.size(); ++i) {
+      mean_history_covariance += graph.history_covariances[i].back();
+      horizons.push_back(graph.graph.target_time - graph.graph.objects[i].times.back());
+    }
+  }
+  mean_history_covariance /= static_cast<double>(report.validation_objects);
+  std::nth_element(horizons.begin(), horizons.begin() + static_cast<std::ptrdiff_t>(horizons.size() / 2), horizons.end());
+  const double reference_period = horizons[horizons.size() / 2];
+
+  const auto start = std::chrono::steady_clock::now();
+  const auto elapsed = [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(); };
+  std::vector<std::size_t> order(train.size());
+  std::iota(order.begin(), order.end(), 0);
+  const int batches = static_cast<int>((train.size() + static_cast<std::size_t>(options.batch_graphs) - 1) /
+                                       static_cast<std::size_t>(options.batch_graphs));
+  for (int epoch = first_epoch; epoch < first_epoch + options.epochs; ++epoch) {
+    const double epoch_start = elapsed();
+    std::mt19937_64 random(options.seed * 1000003ULL + static_cast<std::uint64_t>(epoch));
+    std::shuffle(order.begin(), order.end(), random);
+    impl.network->train();
+    double loss_sum = 0.0;
+    for (int b = 0; b < batches; ++b) {
+      std::vector<TrainingGraph> noisy;
+      std::vector<const TrainingGraph*> chosen;
+      const std::size_t begin = static_cast<std::size_t>(b) * static_cast<std::size_t>(options.batch_graphs);
+      const std::size_t end = std::min(order.size(), begin + static_cast<std::size_t>(options.batch_graphs));
+      if (options.history == HistoryNoise::kTruthWithMatchedNoise) {
+        noisy.reserve(end - begin);
+        for (std::size_t k = begin; k < end; ++k) noisy.push_back(with_matched_noise(train[order[k]], random));
+        for (const TrainingGraph& graph : noisy) chosen.push_back(&graph);
+      } else {
+        for (std::size_t k = begin; k < end; ++k) chosen.push_back(&train[order[k]]);
+      }
+      const std::vector<MotionGraph> graphs = graphs_of(chosen);
+      const detail::MotionBatch batch = detail::make_motion_batch(graphs, impl.shape, impl.normalisation);
+      if (batch.last_positions.empty()) continue;
+      const Targets targets = targets_of(chosen, batch);
+      optimizer.zero_grad();
+      const torch::Tensor loss = euclidean_errors(impl.network->forward(batch), impl.normalisation, targets).mean();
+      loss.backward();
+      optimizer.step();
+      loss_sum += loss.item<double>();
+      if (progress) {
+        TrainingProgress p{epoch, first_epoch + options.epochs - 1, b + 1, batches, loss_sum / (b + 1), elapsed(), nullptr};
+        progress(p);
+      }
+    }
+
+    // Validation: mean Euclidean error and the residual second moment for Q.
+    torch::NoGradGuard no_grad;
+    impl.network->eval();
+    double error_sum = 0.0;
+    Matrix3d residual_moment = Matrix3d::Zero();
+    for (const auto& chosen : validation_batches) {
+      const std::vector<MotionGraph> graphs = graphs_of(chosen);
+      const detail::MotionBatch batch = detail::make_motion_batch(graphs, impl.shape, impl.normalisation);
+      const std::vector<std::vector<Vector3d>> predicted = impl.positions_from(batch, impl.network->forward(batch));
+      for (std::size_t g = 0; g < chosen.size(); ++g) {
+        for (std::size_t i = 0; i < chosen[g]->targets.size(); ++i) {
+          const Vector3d residual = chosen[g]->targets[i] - predicted[g][i];
+          error_sum += residual.norm();
+          residual_moment += residual * residual.transpose();
+        }
+      }
+    }
+    const auto n = static_cast<double>(report.validation_objects);
+    EpochReport epoch_report{epoch, loss_sum / std::max(1, batches), error_sum / n, elapsed() - epoch_start};
+    report.epochs.push_back(epoch_report);
+    if (epoch_report.validation_error < best_error) {
+      best_error = epoch_report.validation_error;
+      impl.process_noise_reference = calibrated_process_noise(residual_moment / n, mean_history_covariance);
+      impl.process_noise_period = reference_period;
+      nlohmann::json metadata = options.metadata;
+      metadata["epoch"] = epoch;
+      metadata["best_validation_error"] = best_error;
+      metadata["constant_velocity_validation_error"] = report.constant_velocity_validation_error;
+      metadata["learning_rate"] = options.learning_rate;
+      metadata["batch_graphs"] = options.batch_graphs;
+      metadata["seed"] = options.seed;
+      metadata["history_noise"] =
+          options.history == HistoryNoise::kObserved ? "observed" : "truth_with_matched_noise";
+      impl.metadata = metadata;
+      impl.save(model_path, metadata, &optimizer);
+      report.best_epoch = epoch;
+      report.process_noise = impl.process_noise_reference;
+      report.process_noise_period = reference_period;
+    }
+    if (progress) {
+      TrainingProgress p{epoch, first_epoch + options.epochs - 1, batches, batches, epoch_report.train_loss, elapsed(),
+                         &report.epochs.back()};
+      progress(p);
+    }
+  }
+  report.best_validation_error = best_error;
+  return report;
+}
+
+}  // namespace stgf

@@ -1,0 +1,75 @@
+#pragma once
+// Training Φ (DESIGN §1.1–1.2): Adam on the mean Euclidean error of the one-step prediction,
+// validation after every epoch, the best model kept (with the optimizer state, configuration,
+// normalisation and the calibrated Q), deterministic for a seed.
+//
+//   loss = (1/N) Σ_i ‖x̂_i − y_i‖₂    over the objects of a batch of graphs, y = the truth.
+//
+// History source for fused inputs (how Φ learns to read fused positions):
+//   kObserved             the histories as given (e.g. the `wls` fusion of the measurements);
+//   kTruthWithMatchedNoise the true past positions plus fresh Gaussian noise with each history
+//                          point's own covariance, drawn anew every epoch (augmentation).
+// Validation always uses the histories as given, so the two schemes are compared on what Φ
+// will see at run time.
+
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "stgf/learn/motion_model.hpp"
+
+namespace stgf {
+
+enum class HistoryNoise { kObserved, kTruthWithMatchedNoise };
+
+struct MotionTrainingOptions {
+  int epochs = 30;
+  double learning_rate = 1e-3;
+  int batch_graphs = 64;       // graphs per optimisation step
+  std::uint64_t seed = 1;
+  int threads = 0;             // LibTorch intra-op threads; 0 = all cores
+  std::string resume;          // model file to continue from (its optimizer state too), or empty
+  HistoryNoise history = HistoryNoise::kObserved;
+  MotionModelShape shape;
+  nlohmann::json metadata = nlohmann::json::object();  // stored in the model file (e.g. the input kind)
+};
+
+struct EpochReport {
+  int epoch = 0;                // 1-based
+  double train_loss = 0.0;      // mean Euclidean error over the epoch's batches (m)
+  double validation_error = 0.0;  // mean Euclidean error on validation (m)
+  double seconds = 0.0;
+};
+
+struct TrainingProgress {
+  int epoch = 0, epochs = 0;
+  int batch = 0, batches = 0;
+  double loss = 0.0;           // running mean of this epoch
+  double elapsed_seconds = 0.0;  // since training started
+  const EpochReport* finished_epoch = nullptr;  // set once per epoch, after validation
+};
+
+struct TrainingReport {
+  std::vector<EpochReport> epochs;
+  int best_epoch = 0;
+  double best_validation_error = 0.0;
+  double constant_velocity_validation_error = 0.0;  // the same graphs predicted at constant velocity
+  Matrix3d process_noise = Matrix3d::Zero();        // calibrated Q_ref
+  double process_noise_period = 0.0;                // Δt_ref
+  std::size_t train_objects = 0, validation_objects = 0;
+};
+
+// Trains Φ and writes the best model to `model_path`. std::invalid_argument for empty data or
+// bad options.
+TrainingReport train_motion_model(const std::vector<TrainingGraph>& train, const std::vector<TrainingGraph>& validation,
+                                  const MotionTrainingOptions& options, const std::string& model_path,
+                                  const std::function<void(const TrainingProgress&)>& progress = {});
+
+// Normalisation measured on training graphs: typical speed (RMS of history velocities, at least
+// 0.1 m/s), median step period, and a fixed 5 m length scale.
+MotionNormalisation measure_normalisation(const std::vector<TrainingGraph>& graphs);
+
+// Mean Euclidean error of the constant-velocity prediction (last velocity × Δt) on the graphs.
+double constant_velocity_error(const std::vector<TrainingGraph>& graphs);
+
+}  // namespace stgf

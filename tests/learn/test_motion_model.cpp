@@ -1,0 +1,252 @@
+// The learned motion model Φ on tiny shapes: ragged batches, gradients, save → load, training
+// lowers the loss, Φ beats constant velocity on turning motion, bad model files give clear errors.
+
+#include "stgf/learn/motion_model.hpp"
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <random>
+
+#include <unistd.h>
+
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include "stgf/io/input_error.hpp"
+#include "stgf/learn/motion_network.hpp"
+#include "stgf/learn/motion_training.hpp"
+
+namespace stgf {
+namespace {
+
+namespace fs = std::filesystem;
+using ::testing::HasSubstr;
+
+MotionModelShape tiny_shape() {
+  MotionModelShape shape;
+  shape.history_length = 4;
+  shape.embedding = 8;
+  shape.hidden = 8;
+  shape.attention_hidden = 4;
+  shape.max_fully_connected = 4;
+  shape.nearest_neighbours = 2;
+  return shape;
+}
+
+// An object on a circle of radius r around c, angular speed ω, phase φ, sampled at `times`.
+ObjectHistory circling(const std::string& id, const Vector3d& centre, double radius, double omega, double phase,
+                       const std::vector<double>& times) {
+  ObjectHistory history{id, {}, {}};
+  for (double t : times) {
+    history.positions.push_back(centre + radius * Vector3d(std::cos(phase + omega * t), std::sin(phase + omega * t), 0));
+    history.times.push_back(t);
+  }
+  return history;
+}
+
+// Graphs of objects turning on circles (no noise): what constant velocity gets wrong.
+std::vector<TrainingGraph> turning_graphs(int count, std::uint64_t seed) {
+  std::mt19937_64 random(seed);
+  std::uniform_real_distribution<double> uniform(0.0, 1.0);
+  std::vector<TrainingGraph> graphs;
+  const double dt = 0.4;
+  for (int g = 0; g < count; ++g) {
+    TrainingGraph training;
+    const int objects = 1 + g % 3;
+    const double start = 10.0 * uniform(random);
+    std::vector<double> times;
+    for (int k = 0; k < 5; ++k) times.push_back(start + k * dt);
+    training.graph.scene = "s" + std::to_string(g);
+    training.graph.target_time = start + 5 * dt;
+    for (int i = 0; i < objects; ++i) {
+      const Vector3d centre(20.0 * uniform(random), 20.0 * uniform(random), 0.0);
+      const double radius = 2.0 + 2.0 * uniform(random);
+      const double omega = (uniform(random) < 0.5 ? -1.0 : 1.0) * (0.4 + 0.4 * uniform(random));
+      const double phase = 6.28 * uniform(random);
+      ObjectHistory history = circling("o" + std::to_string(i), centre, radius, omega, phase, times);
+      training.targets.push_back(circling("", centre, radius, omega, phase, {training.graph.target_time}).positions[0]);
+      training.true_histories.push_back(history.positions);
+      training.history_covariances.emplace_back(history.positions.size(), 1e-4 * Matrix3d::Identity());
+      training.graph.objects.push_back(std::move(history));
+    }
+    graphs.push_back(std::move(training));
+  }
+  return graphs;
+}
+
+std::vector<MotionGraph> graphs_only(const std::vector<TrainingGraph>& graphs) {
+  std::vector<MotionGraph> result;
+  for (const TrainingGraph& graph : graphs) result.push_back(graph.graph);
+  return result;
+}
+
+fs::path scratch(const std::string& name) {
+  return fs::temp_directory_path() / ("stgf-test-learn-" + std::to_string(::getpid()) + "-" + name);
+}
+
+TEST(MotionModel, RaggedBatchesGiveOnePredictionPerObject) {
+  const MotionModel model(tiny_shape(), MotionNormalisation{}, 1);
+  std::vector<MotionGraph> graphs;
+  for (int objects : {1, 3, 7}) {
+    MotionGraph graph{"s", "v", 10.0, {}};
+    for (int i = 0; i < objects; ++i) {
+      std::vector<double> times;
+      for (int k = 0; k < 1 + (i % 6); ++k) times.push_back(9.0 - k * 0.1);
+      std::reverse(times.begin(), times.end());
+      graph.objects.push_back(circling("o" + std::to_string(i), Vector3d(i, 0, 0), 1.0, 0.5, 0.0, times));
+    }
+    graphs.push_back(graph);
+  }
+  const auto predicted = model.predict(graphs);
+  ASSERT_EQ(predicted.size(), 3u);
+  EXPECT_EQ(predicted[0].size(), 1u);
+  EXPECT_EQ(predicted[1].size(), 3u);
+  EXPECT_EQ(predicted[2].size(), 7u);
+  for (const auto& graph : predicted) {
+    for (const Vector3d& p : graph) EXPECT_TRUE(p.allFinite());
+  }
+  // Edges: 3 objects fully connected (9), 7 objects by 2 nearest plus self (21), 1 object (1).
+  const detail::MotionBatch batch = detail::make_motion_batch(graphs, tiny_shape(), MotionNormalisation{});
+  EXPECT_EQ(batch.edge_source.size(0), 1 + 9 + 21);
+  EXPECT_EQ(batch.motion.sizes(), (std::vector<int64_t>{11, 4, 5}));
+}
+
+TEST(MotionModel, GradientsReachEveryParameter) {
+  MotionModel model(tiny_shape(), MotionNormalisation{}, 2);
+  const std::vector<TrainingGraph> graphs = turning_graphs(8, 3);
+  const std::vector<MotionGraph> inputs = graphs_only(graphs);
+  const detail::MotionBatch batch = detail::make_motion_batch(inputs, model.shape(), model.normalisation());
+  model.impl().network->train();
+  const torch::Tensor velocity = model.impl().network->forward(batch);
+  velocity.pow(2).sum().backward();
+  for (const auto& parameter : model.impl().network->named_parameters()) {
+    ASSERT_TRUE(parameter.value().grad().defined()) << parameter.key();
+    EXPECT_GT(parameter.value().grad().abs().sum().item<double>(), 0.0) << parameter.key();
+  }
+}
+
+TEST(MotionModel, SaveThenLoadGivesIdenticalPredictions) {
+  MotionModel model(tiny_shape(), MotionNormalisation{1.3, 0.4, 5.0}, 4);
+  Matrix3d q;
+  q << 0.02, 0.001, 0, 0.001, 0.03, 0, 0, 0, 0.01;
+  model.set_process_noise(q, 0.4);
+  const std::string path = scratch("model.pt").string();
+  model.save(path, {{"input", "fused"}});
+  const MotionModel loaded = MotionModel::load(path);
+  fs::remove(path);
+  const std::vector<MotionGraph> graphs = graphs_only(turning_graphs(5, 5));
+  const auto a = model.predict(graphs);
+  const auto b = loaded.predict(graphs);
+  for (std::size_t g = 0; g < a.size(); ++g) {
+    for (std::size_t i = 0; i < a[g].size(); ++i) EXPECT_EQ(a[g][i], b[g][i]);
+  }
+  EXPECT_EQ(loaded.process_noise(0.4), q);
+  EXPECT_LT((loaded.process_noise(0.8) - 4.0 * q).norm(), 1e-15);
+  EXPECT_EQ(loaded.metadata().value("input", ""), "fused");
+  EXPECT_EQ(loaded.normalisation().speed, 1.3);
+  EXPECT_EQ(loaded.shape().hidden, 8);
+}
+
+TEST(MotionModel, BadModelFilesGiveClearErrors) {
+  const auto error_of = [](const std::string& path) {
+    try {
+      MotionModel::load(path);
+    } catch (const InputError& error) {
+      return std::string(error.what());
+    }
+    return std::string("no error");
+  };
+  EXPECT_THAT(error_of("/nonexistent/model.pt"), HasSubstr("/nonexistent/model.pt: no such model file"));
+  const std::string garbage = scratch("garbage.pt").string();
+  std::ofstream(garbage) << "this is not a model";
+  EXPECT_THAT(error_of(garbage), HasSubstr(garbage + ": not a readable model file"));
+  fs::remove(garbage);
+
+  // A valid file cut short.
+  const std::string path = scratch("whole.pt").string();
+  MotionModel(tiny_shape(), MotionNormalisation{}, 6).save(path);
+  const auto size = fs::file_size(path);
+  fs::resize_file(path, size / 2);
+  EXPECT_THAT(error_of(path), HasSubstr(path + ": "));
+  fs::remove(path);
+
+  // A torch archive that is not a stgf model.
+  const std::string foreign = scratch("foreign.pt").string();
+  torch::serialize::OutputArchive archive;
+  archive.write("weights", torch::ones({3}));
+  archive.save_to(foreign);
+  EXPECT_THAT(error_of(foreign), HasSubstr("not a stgf motion model"));
+  fs::remove(foreign);
+
+  // Weights that do not match the stated shape: a model's network saved under another model's config.
+  const std::string mismatched = scratch("mismatched.pt").string();
+  MotionModelShape wider = tiny_shape();
+  wider.hidden = 12;
+  MotionModel other(wider, MotionNormalisation{}, 7);
+  torch::serialize::OutputArchive mixed;
+  mixed.write("format", c10::IValue(std::string("stgf-motion-model")));
+  mixed.write("version", c10::IValue(static_cast<int64_t>(1)));
+  const std::string good = scratch("good.pt").string();
+  MotionModel(tiny_shape(), MotionNormalisation{}, 8).save(good);
+  torch::serialize::InputArchive good_archive;
+  good_archive.load_from(good);
+  c10::IValue config;
+  good_archive.read("config", config);
+  mixed.write("config", config);
+  torch::serialize::OutputArchive network;
+  other.impl().network->save(network);
+  mixed.write("network", network);
+  mixed.save_to(mismatched);
+  EXPECT_THAT(error_of(mismatched), HasSubstr("do not match its stated shape"));
+  fs::remove(mismatched);
+  fs::remove(good);
+}
+
+TEST(MotionTraining, LossFallsAndPhiBeatsConstantVelocityOnTurningMotion) {
+  const std::vector<TrainingGraph> train = turning_graphs(300, 11);
+  const std::vector<TrainingGraph> validation = turning_graphs(60, 12);
+  MotionTrainingOptions options;
+  options.shape = tiny_shape();
+  options.shape.hidden = 16;
+  options.shape.attention_hidden = 8;
+  options.epochs = 25;
+  options.batch_graphs = 16;
+  options.learning_rate = 5e-3;
+  options.threads = 1;
+  const std::string path = scratch("trained.pt").string();
+  const TrainingReport report = train_motion_model(train, validation, options, path);
+  ASSERT_EQ(report.epochs.size(), 25u);
+  EXPECT_LT(report.epochs.back().train_loss, 0.5 * report.epochs.front().train_loss);
+  EXPECT_LT(report.best_validation_error, report.constant_velocity_validation_error);
+  // The file holds the best epoch, with a calibrated Q.
+  const MotionModel best = MotionModel::load(path);
+  EXPECT_EQ(best.metadata().value("epoch", 0), report.best_epoch);
+  EXPECT_GT(best.process_noise(0.4).trace(), 0.0);
+  fs::remove(path);
+}
+
+TEST(MotionTraining, SameSeedSameModel) {
+  const std::vector<TrainingGraph> train = turning_graphs(40, 21);
+  const std::vector<TrainingGraph> validation = turning_graphs(10, 22);
+  MotionTrainingOptions options;
+  options.shape = tiny_shape();
+  options.epochs = 2;
+  options.batch_graphs = 8;
+  options.threads = 1;
+  options.seed = 9;
+  const std::string a = scratch("a.pt").string(), b = scratch("b.pt").string();
+  train_motion_model(train, validation, options, a);
+  train_motion_model(train, validation, options, b);
+  const std::vector<MotionGraph> graphs = graphs_only(validation);
+  const auto pa = MotionModel::load(a).predict(graphs);
+  const auto pb = MotionModel::load(b).predict(graphs);
+  for (std::size_t g = 0; g < pa.size(); ++g) {
+    for (std::size_t i = 0; i < pa[g].size(); ++i) EXPECT_EQ(pa[g][i], pb[g][i]);
+  }
+  fs::remove(a);
+  fs::remove(b);
+}
+
+}  // namespace
+}  // namespace stgf
