@@ -180,4 +180,42 @@ TEST_F(Cli, RunThenEval) {
   EXPECT_THAT(slurp(directory_ / "r.json"), HasSubstr("\"method\": \"mmt\""));
 }
 
+// The learned methods end to end on a tiny synthetic benchmark: train Φ on fused and on raw
+// histories, run ours-l and sttp, score them with the model-based methods.
+TEST_F(Cli, TrainThenRunLearnedMethods) {
+  ASSERT_EQ(stgf("dataset synthetic --out bench --seed 3 --scenes 2 --objects 3 --views 2 --steps 15").status, 0);
+  const Result fused = stgf("train --benchmark bench --out fused.pt --input fused --epochs 2 --batch 8 --threads 1");
+  ASSERT_EQ(fused.status, 0) << fused.err;
+  EXPECT_THAT(fused.err, HasSubstr("epoch 2/2"));
+  EXPECT_THAT(fused.err, HasSubstr("constant velocity"));
+  const Result raw = stgf("train --benchmark bench --out raw.pt --input raw --epochs 1 --threads 1");
+  ASSERT_EQ(raw.status, 0) << raw.err;
+  const std::string m = "--measurements bench/test/measurements.csv";
+  ASSERT_EQ(stgf("run --method ours-l --model fused.pt " + m + " --out ours-l.csv").status, 0);
+  ASSERT_EQ(stgf("run --method sttp --model raw.pt " + m + " --out sttp.csv").status, 0);
+  ASSERT_EQ(stgf("run --method wls " + m + " --out wls.csv").status, 0);
+  const Result eval = stgf("eval --truth bench/test/truth.csv " + m + " --estimates wls.csv ours-l.csv sttp.csv --from-step 2");
+  ASSERT_EQ(eval.status, 0) << eval.err;
+  EXPECT_THAT(eval.out, HasSubstr("| ours-l |"));
+  EXPECT_THAT(eval.out, HasSubstr("| sttp |"));
+}
+
+TEST_F(Cli, LearnedMethodsNeedTheRightModel) {
+  write("m.csv", kHeader + kGoodRows);
+  Result result = stgf("run --method sttp --measurements m.csv --out e.csv");
+  EXPECT_EQ(result.status, 2);
+  EXPECT_THAT(result.err, HasSubstr("--method sttp needs --model"));
+  write("model.pt", "not a model");
+  result = stgf("run --method ours-l --model model.pt --measurements m.csv --out e.csv");
+  EXPECT_EQ(result.status, 2);
+  EXPECT_THAT(result.err, StartsWith("model.pt: not a readable model file"));
+  EXPECT_FALSE(exists("e.csv"));
+  ASSERT_EQ(stgf("dataset synthetic --out bench --seed 4 --scenes 1 --objects 2 --views 2 --steps 6").status, 0);
+  ASSERT_EQ(stgf("train --benchmark bench --out fused.pt --input fused --epochs 1 --threads 1").status, 0);
+  result = stgf("run --method sttp --model fused.pt --measurements m.csv --out e.csv");
+  EXPECT_EQ(result.status, 2);
+  EXPECT_THAT(result.err, HasSubstr("was trained on fused histories; --method sttp needs a model trained with --input raw"));
+  EXPECT_FALSE(exists("e.csv"));
+}
+
 }  // namespace
