@@ -16,7 +16,7 @@ namespace stgf {
 namespace detail {
 namespace {
 
-constexpr int kMotionFeatures = 5;
+constexpr int kMotionFeatures = 7;
 
 torch::Tensor float_tensor(const std::vector<float>& values, std::vector<int64_t> shape) {
   return torch::from_blob(const_cast<float*>(values.data()), shape, torch::kFloat32).clone();
@@ -58,7 +58,7 @@ MotionBatch make_motion_batch(std::span<const MotionGraph> graphs, const MotionM
                               const MotionNormalisation& normalisation) {
   const int history = shape.history_length;
   MotionBatch batch;
-  std::vector<float> motion, last_velocity, horizon;
+  std::vector<float> motion, last_velocity, horizon, last_intervals;
   batch.graph_offsets.push_back(0);
   for (const MotionGraph& graph : graphs) {
     for (const ObjectHistory& object : graph.objects) {
@@ -72,22 +72,34 @@ MotionBatch make_motion_batch(std::span<const MotionGraph> graphs, const MotionM
         throw std::invalid_argument("motion graph: object '" + object.object +
                                     "' has history at or after the target time");
       }
-      // Intervals k = points−1 … 1, newest last; pad the front.
+      // Intervals k = points−1 … 1, newest last; pad the front. Per interval: the velocity over it
+      // and the acceleration from the previous interval's velocity, both per second.
       const int intervals = static_cast<int>(points) - 1;
       const int used = std::min(intervals, history);
       for (int slot = 0; slot < history - used; ++slot) motion.insert(motion.end(), kMotionFeatures, 0.0f);
+      const auto velocity_of = [&](int k) {
+        return Vector3d((object.positions[k] - object.positions[k - 1]) / (object.times[k] - object.times[k - 1]));
+      };
       Vector3d velocity = Vector3d::Zero();
+      double last_interval = 0.0;
       for (int k = intervals - used + 1; k <= intervals; ++k) {
-        const double step = object.times[k] - object.times[k - 1];
-        if (!(step > 0.0)) throw std::invalid_argument("motion graph: history times must increase");
-        velocity = (object.positions[k] - object.positions[k - 1]) / step;
+        last_interval = object.times[k] - object.times[k - 1];
+        if (!(last_interval > 0.0)) throw std::invalid_argument("motion graph: history times must increase");
+        velocity = velocity_of(k);
+        Vector3d acceleration = Vector3d::Zero();
+        if (k >= 2) {
+          acceleration = (velocity - velocity_of(k - 1)) / (0.5 * (object.times[k] - object.times[k - 2]));
+        }
         for (int axis = 0; axis < 3; ++axis) motion.push_back(static_cast<float>(velocity(axis) / normalisation.speed));
-        motion.push_back(static_cast<float>(step / normalisation.period));
+        for (int axis = 0; axis < 3; ++axis) {
+          motion.push_back(static_cast<float>(acceleration(axis) * normalisation.period / normalisation.speed));
+        }
         motion.push_back(1.0f);
       }
       if (intervals == 0) velocity.setZero();
       for (int axis = 0; axis < 3; ++axis) last_velocity.push_back(static_cast<float>(velocity(axis) / normalisation.speed));
       horizon.push_back(static_cast<float>(dt / normalisation.period));
+      last_intervals.push_back(static_cast<float>(last_interval / normalisation.period));
       batch.last_positions.push_back(object.positions.back());
       batch.horizons.push_back(dt);
     }
@@ -110,6 +122,7 @@ MotionBatch make_motion_batch(std::span<const MotionGraph> graphs, const MotionM
   batch.motion = float_tensor(motion, {n, history, kMotionFeatures});
   batch.last_velocity = float_tensor(last_velocity, {n, 3});
   batch.horizon = float_tensor(horizon, {n, 1});
+  batch.last_interval = float_tensor(last_intervals, {n, 1});
   const auto edges = static_cast<int64_t>(source.size());
   batch.edge_source = torch::from_blob(source.data(), {edges}, torch::kInt64).clone();
   batch.edge_target = torch::from_blob(target.data(), {edges}, torch::kInt64).clone();
@@ -146,7 +159,7 @@ MotionNetworkImpl::MotionNetworkImpl(const MotionModelShape& shape)
           "encoder", torch::nn::LSTM(torch::nn::LSTMOptions(shape.embedding, shape.hidden).batch_first(true)))),
       attention1_(register_module("attention1", GraphAttention(shape.hidden, shape.attention_hidden))),
       attention2_(register_module("attention2", GraphAttention(shape.attention_hidden, shape.hidden))),
-      decoder_(register_module("decoder", torch::nn::LSTMCell(2 * shape.hidden + 3 + 1, shape.hidden))),
+      decoder_(register_module("decoder", torch::nn::LSTMCell(2 * shape.hidden + 3, shape.hidden))),
       head_(register_module("head", torch::nn::Linear(shape.hidden, 3))) {
   // A small head: the untrained network is close to the constant-velocity model.
   torch::NoGradGuard no_grad;
@@ -162,9 +175,11 @@ torch::Tensor MotionNetworkImpl::forward(const MotionBatch& batch) {
   const torch::Tensor spatial = attention2_(
       attention1_(motion_embedding, batch.edge_source, batch.edge_target, batch.edge_offset), batch.edge_source,
       batch.edge_target, batch.edge_offset);                                        // s: [N, hidden]
-  const torch::Tensor input = torch::cat({motion_embedding, spatial, batch.last_velocity, batch.horizon}, 1);
+  const torch::Tensor input = torch::cat({motion_embedding, spatial, batch.last_velocity}, 1);
   const auto [decoded, decoded_cell] = decoder_(input, std::make_tuple(motion_embedding, cell));
-  return batch.last_velocity + head_(decoded);
+  // v̂ = v_last + â (Δt_last + Δt) / 2: the head predicts an acceleration â, and v_last, measured
+  // over the last interval, lags the current velocity by half of it.
+  return batch.last_velocity + head_(decoded) * (0.5 * (batch.last_interval + batch.horizon));
 }
 
 }  // namespace detail

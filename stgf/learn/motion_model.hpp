@@ -4,11 +4,13 @@
 //
 // For each object of a MotionGraph, Φ predicts where it will be at the graph's target time:
 //
-//   input     per history interval k: velocity v_k = (p_k − p_{k−1}) / Δt_k (m/s), Δt_k (s) and a
-//             flag saying whether the interval exists (short histories are padded at the start);
+//   input     per history interval k: velocity v_k = (p_k − p_{k−1}) / Δt_k (m/s), acceleration
+//             a_k = (v_k − v_{k−1}) / ((t_k − t_{k−2}) / 2) (m/s²) and a flag saying whether the
+//             interval exists (short histories are padded at the start) — per-second quantities only,
+//             no step periods, so the network does not learn the training data's sampling rate;
 //             per object: its last position (for relative positions between neighbours) and the
-//             time to predict ahead, Δt = target_time − t_last.
-//   encoder   Linear(5→16) + ReLU, then an LSTM (hidden 32) over the H intervals: motion embedding m_i.
+//             time to predict ahead, Δt = target_time − t_last (used only in the output below).
+//   encoder   Linear(7→16) + ReLU, then an LSTM (hidden 32) over the H intervals: motion embedding m_i.
 //   spatial   two graph-attention layers over the objects of the graph (edges: all pairs for graphs
 //             of up to `max_fully_connected` objects, else each object's k nearest, plus self-loops):
 //               message_ji = W h_j + U (p_j − p_i) / s_p
@@ -16,11 +18,14 @@
 //               α_ji       = softmax over the neighbours j of i of score_ji     (paper Eqs. 7–8)
 //               h'_i       = ELU(Σ_j α_ji message_ji)
 //             sizes 32→16 and 16→32 (the paper's 16×16 and 16×32 do not fit m of size 32): s_i.
-//   decoder   an LSTM cell (hidden 32) started from the encoder's state, fed with m_i ‖ s_i ‖ v_last ‖ Δt,
-//             whose output maps (Linear 32→3) to a velocity correction δ:
-//               v̂ = v_last + s_v δ,     x̂ = p_last + v̂ Δt
-//             so an untrained Φ is the constant-velocity model, and rates it has not seen still give
-//             sensible predictions (everything is per second).
+//   decoder   an LSTM cell (hidden 32) started from the encoder's state, fed with m_i ‖ s_i ‖ v_last,
+//             whose output maps (Linear 32→3) to an acceleration â (in units of s_v / s_t):
+//               v̂ = v_last + â (Δt_last + Δt) / 2,     x̂ = p_last + v̂ Δt
+//             v_last, measured over the last interval Δt_last, lags the current velocity by half
+//             that interval, and the velocity keeps changing over the Δt ahead; writing the
+//             correction as an acceleration times that time span makes Φ independent of the
+//             sampling rate (a model trained at 2.5 Hz predicts at 5 Hz or 1.25 Hz, tested), and an
+//             untrained Φ (small head) is close to the constant-velocity model.
 // Inputs are scaled by the training data's typical speed s_v, step period s_t and a length s_p,
 // stored in the model file.
 //

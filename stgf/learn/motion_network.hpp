@@ -14,9 +14,10 @@ namespace stgf::detail {
 // A batch of graphs as tensors (float32). Positions never enter the network as absolute values:
 // only differences, computed in double before conversion, so world coordinates of any size work.
 struct MotionBatch {
-  torch::Tensor motion;           // [N, H, 5]: v_k / s_v (3), Δt_k / s_t, valid
+  torch::Tensor motion;           // [N, H, 7]: v_k / s_v (3), a_k s_t / s_v (3), valid
   torch::Tensor last_velocity;    // [N, 3]: v_last / s_v (zero without a velocity)
   torch::Tensor horizon;          // [N, 1]: Δt / s_t
+  torch::Tensor last_interval;    // [N, 1]: Δt_last / s_t (zero without a velocity)
   torch::Tensor edge_source;      // [E] int64: neighbour j
   torch::Tensor edge_target;      // [E] int64: object i that attends to j
   torch::Tensor edge_offset;      // [E, 3]: (p_j − p_i) / s_p

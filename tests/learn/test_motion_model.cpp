@@ -46,11 +46,10 @@ ObjectHistory circling(const std::string& id, const Vector3d& centre, double rad
 }
 
 // Graphs of objects turning on circles (no noise): what constant velocity gets wrong.
-std::vector<TrainingGraph> turning_graphs(int count, std::uint64_t seed) {
+std::vector<TrainingGraph> turning_graphs(int count, std::uint64_t seed, double dt = 0.4) {
   std::mt19937_64 random(seed);
   std::uniform_real_distribution<double> uniform(0.0, 1.0);
   std::vector<TrainingGraph> graphs;
-  const double dt = 0.4;
   for (int g = 0; g < count; ++g) {
     TrainingGraph training;
     const int objects = 1 + g % 3;
@@ -109,7 +108,7 @@ TEST(MotionModel, RaggedBatchesGiveOnePredictionPerObject) {
   // Edges: 3 objects fully connected (9), 7 objects by 2 nearest plus self (21), 1 object (1).
   const detail::MotionBatch batch = detail::make_motion_batch(graphs, tiny_shape(), MotionNormalisation{});
   EXPECT_EQ(batch.edge_source.size(0), 1 + 9 + 21);
-  EXPECT_EQ(batch.motion.sizes(), (std::vector<int64_t>{11, 4, 5}));
+  EXPECT_EQ(batch.motion.sizes(), (std::vector<int64_t>{11, 4, 7}));
 }
 
 TEST(MotionModel, GradientsReachEveryParameter) {
@@ -224,6 +223,35 @@ TEST(MotionTraining, LossFallsAndPhiBeatsConstantVelocityOnTurningMotion) {
   EXPECT_EQ(best.metadata().value("epoch", 0), report.best_epoch);
   EXPECT_GT(best.process_noise(0.4).trace(), 0.0);
   fs::remove(path);
+}
+
+// Φ works in per-second units: trained at one rate (2.5 Hz), it still beats constant velocity at
+// 5 Hz and at 1.25 Hz, which it never saw.
+TEST(MotionTraining, TrainedAtOneRateWorksAtOthers) {
+  MotionTrainingOptions options;
+  options.shape = tiny_shape();
+  options.shape.hidden = 16;
+  options.shape.attention_hidden = 8;
+  options.epochs = 25;
+  options.batch_graphs = 16;
+  options.learning_rate = 5e-3;
+  options.threads = 1;
+  const std::string path = scratch("rate.pt").string();
+  train_motion_model(turning_graphs(300, 31, 0.4), turning_graphs(60, 32, 0.4), options, path);
+  const MotionModel model = MotionModel::load(path);
+  fs::remove(path);
+  for (double dt : {0.2, 0.8}) {
+    const std::vector<TrainingGraph> graphs = turning_graphs(100, 33, dt);
+    const auto predicted = model.predict(graphs_only(graphs));
+    double error = 0.0;
+    std::size_t objects = 0;
+    for (std::size_t g = 0; g < graphs.size(); ++g) {
+      for (std::size_t i = 0; i < graphs[g].targets.size(); ++i, ++objects) {
+        error += (predicted[g][i] - graphs[g].targets[i]).norm();
+      }
+    }
+    EXPECT_LT(error / objects, constant_velocity_error(graphs)) << "Δt = " << dt;
+  }
 }
 
 TEST(MotionTraining, SameSeedSameModel) {

@@ -1,0 +1,57 @@
+#!/usr/bin/env bash
+# Trains Φ on the mpl and cad benchmarks (seed 1) and regenerates docs/learning.md: time per epoch,
+# validation error against constant velocity, and the comparison of the two ways of training on
+# fused histories (observed wls histories vs truth + matched noise).
+#   scripts/learning.sh                       # EPOCHS=10 by default
+#   EPOCHS=30 BENCHMARKS="mpl" scripts/learning.sh
+set -euo pipefail
+cd "$(dirname "$0")/.."
+scripts/install-deps.sh
+scripts/build.sh >/dev/null
+
+seed=1
+epochs=${EPOCHS:-10}
+benchmarks=${BENCHMARKS:-"mpl cad"}
+out=build/learning
+mkdir -p "$out" docs
+report="$out/learning.md"
+{
+  echo "# Training the motion model Φ"
+  echo
+  echo "Produced by \`scripts/learning.sh\` (seed $seed, $epochs epochs, 2 threads) on $(date -u +%Y-%m-%d),"
+  echo "commit $(git rev-parse --short HEAD), on the project's 2-core machine. Errors are the mean Euclidean"
+  echo "one-step prediction error on the validation split; \"constant velocity\" predicts the same graphs"
+  echo "from the last velocity. \`fused\` models serve \`ours-l\` and \`ours\`, \`raw\` models serve \`sttp\`."
+  echo
+  echo "| benchmark | input | training histories | s / epoch | best epoch | validation error (m) | constant velocity (m) | Q diagonal at Δt_ref (m²) |"
+  echo "|---|---|---|---:|---:|---:|---:|---|"
+} > "$report"
+
+for benchmark in $benchmarks; do
+  folder=build/results/$benchmark
+  [ -f "$folder/benchmark.json" ] || build/stgf dataset "$benchmark" --out "$folder" --seed "$seed"
+  for variant in "fused observed" "fused matched" "raw observed"; do
+    set -- $variant
+    input=$1 noise=$2
+    model="$out/$benchmark-$input-$noise.pt"
+    log="$out/$benchmark-$input-$noise.log"
+    build/stgf train --benchmark "$folder" --out "$model" --input "$input" --history-noise "$noise" \
+      --epochs "$epochs" --seed "$seed" --threads 2 2> "$log"
+    per_epoch=$(grep -o ', [0-9.]* s$' "$log" | tr -d ', s' | awk '{ sum += $1; n += 1 } END { printf "%.1f", sum / n }')
+    summary=$(grep 'best epoch' "$log")
+    best=$(echo "$summary" | sed -E 's/.*best epoch ([0-9]+):.*/\1/')
+    error=$(echo "$summary" | sed -E 's/.*validation error ([0-9.]+) m.*/\1/')
+    cv=$(echo "$summary" | sed -E 's/.*constant velocity: ([0-9.]+) m.*/\1/')
+    q=$(echo "$summary" | sed -E 's/.*diag\(([^)]*)\).*/\1/')
+    echo "| $benchmark | $input | $noise | $per_epoch | $best | $error | $cv | $q |" >> "$report"
+  done
+done
+cat >> "$report" <<'NOTES'
+
+Commands (per row): `build/stgf train --benchmark build/results/BENCHMARK --out MODEL.pt --input INPUT
+--history-noise NOISE --epochs EPOCHS --seed 1 --threads 2`; the benchmark folders are those of
+`scripts/results.sh` (`build/stgf dataset BENCHMARK --out build/results/BENCHMARK --seed 1`).
+The per-epoch log of each run is in `build/learning/*.log`.
+NOTES
+cp "$report" docs/learning.md
+echo "wrote docs/learning.md" >&2
