@@ -202,9 +202,8 @@ TEST(MotionModel, BadModelFilesGiveClearErrors) {
   fs::remove(good);
 }
 
-TEST(MotionTraining, LossFallsAndPhiBeatsConstantVelocityOnTurningMotion) {
-  const std::vector<TrainingGraph> train = turning_graphs(300, 11);
-  const std::vector<TrainingGraph> validation = turning_graphs(60, 12);
+// Enough capacity and epochs to learn turning on a few hundred graphs in about a second.
+MotionTrainingOptions turning_training_options() {
   MotionTrainingOptions options;
   options.shape = tiny_shape();
   options.shape.hidden = 16;
@@ -213,6 +212,13 @@ TEST(MotionTraining, LossFallsAndPhiBeatsConstantVelocityOnTurningMotion) {
   options.batch_graphs = 16;
   options.learning_rate = 5e-3;
   options.threads = 1;
+  return options;
+}
+
+TEST(MotionTraining, LossFallsAndPhiBeatsConstantVelocityOnTurningMotion) {
+  const std::vector<TrainingGraph> train = turning_graphs(300, 11);
+  const std::vector<TrainingGraph> validation = turning_graphs(60, 12);
+  const MotionTrainingOptions options = turning_training_options();
   const std::string path = scratch("trained.pt").string();
   const TrainingReport report = train_motion_model(train, validation, options, path);
   ASSERT_EQ(report.epochs.size(), 25u);
@@ -228,14 +234,7 @@ TEST(MotionTraining, LossFallsAndPhiBeatsConstantVelocityOnTurningMotion) {
 // Φ works in per-second units: trained at one rate (2.5 Hz), it still beats constant velocity at
 // 5 Hz and at 1.25 Hz, which it never saw.
 TEST(MotionTraining, TrainedAtOneRateWorksAtOthers) {
-  MotionTrainingOptions options;
-  options.shape = tiny_shape();
-  options.shape.hidden = 16;
-  options.shape.attention_hidden = 8;
-  options.epochs = 25;
-  options.batch_graphs = 16;
-  options.learning_rate = 5e-3;
-  options.threads = 1;
+  const MotionTrainingOptions options = turning_training_options();
   const std::string path = scratch("rate.pt").string();
   train_motion_model(turning_graphs(300, 31, 0.4), turning_graphs(60, 32, 0.4), options, path);
   const MotionModel model = MotionModel::load(path);
