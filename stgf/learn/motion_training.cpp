@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <filesystem>
 #include <numeric>
 #include <random>
 #include <stdexcept>
@@ -156,8 +157,13 @@ TrainingReport train_motion_model(const std::vector<TrainingGraph>& train, const
   MotionModel::Impl& impl = model.impl();
   torch::optim::Adam optimizer(impl.network->parameters(), torch::optim::AdamOptions(options.learning_rate));
   int first_epoch = 1;
+  std::error_code ignored_error;
   double best_error = std::numeric_limits<double>::infinity();
   if (!options.resume.empty()) {
+    // The resumed file is the best model so far: it is the output until an epoch beats it.
+    if (!std::filesystem::equivalent(options.resume, model_path, ignored_error)) {
+      std::filesystem::copy_file(options.resume, model_path, std::filesystem::copy_options::overwrite_existing);
+    }
     load_optimizer_state(options.resume, optimizer);
     const nlohmann::json& stored = impl.metadata;
     first_epoch = stored.value("epoch", 0) + 1;

@@ -188,6 +188,11 @@ TEST_F(Cli, TrainThenRunLearnedMethods) {
   ASSERT_EQ(fused.status, 0) << fused.err;
   EXPECT_THAT(fused.err, HasSubstr("epoch 2/2"));
   EXPECT_THAT(fused.err, HasSubstr("constant velocity"));
+  // --resume continues the epochs (and the optimizer) where the file left off.
+  const Result resumed =
+      stgf("train --benchmark bench --out resumed.pt --input fused --epochs 1 --batch 8 --threads 1 --resume fused.pt");
+  ASSERT_EQ(resumed.status, 0) << resumed.err;
+  EXPECT_THAT(resumed.err, HasSubstr("epoch 3/3"));
   const Result raw = stgf("train --benchmark bench --out raw.pt --input raw --epochs 1 --threads 1");
   ASSERT_EQ(raw.status, 0) << raw.err;
   const std::string m = "--measurements bench/test/measurements.csv";
