@@ -38,8 +38,9 @@ std::string duration(double seconds) {
   return s >= 60 ? fmt::format("{}m{:02d}s", s / 60, s % 60) : fmt::format("{}s", s);
 }
 
-// A progress line on a terminal (rewritten in place), one log line per epoch otherwise.
-void show_progress(const TrainingProgress& p, bool terminal) {
+// A progress line on a terminal (rewritten in place at most ten times a second), one log line per
+// epoch otherwise.
+void show_progress(const TrainingProgress& p, bool terminal, double& last_shown) {
   if (p.finished_epoch != nullptr) {
     if (terminal) std::fputs("\r\033[K", stderr);
     const EpochReport& e = *p.finished_epoch;
@@ -47,7 +48,8 @@ void show_progress(const TrainingProgress& p, bool terminal) {
                  e.validation_error, e.seconds);
     return;
   }
-  if (!terminal) return;
+  if (!terminal || (p.elapsed_seconds - last_shown < 0.1 && p.batch < p.batches)) return;
+  last_shown = p.elapsed_seconds;
   const double done = (p.epoch - 1) + static_cast<double>(p.batch) / p.batches;
   const double per_epoch = p.elapsed_seconds / std::max(done, 1e-9);
   const double remaining = per_epoch * std::max(0.0, p.epochs - done);
@@ -75,8 +77,10 @@ void train(TrainOptions options) {
                validation_graphs.size(), options.input,
                std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
   const bool terminal = ::isatty(::fileno(stderr)) != 0;
-  const TrainingReport report = train_motion_model(train_graphs, validation_graphs, options.training, options.out,
-                                                   [terminal](const TrainingProgress& p) { show_progress(p, terminal); });
+  double last_shown = -1.0;
+  const TrainingReport report = train_motion_model(
+      train_graphs, validation_graphs, options.training, options.out,
+      [terminal, &last_shown](const TrainingProgress& p) { show_progress(p, terminal, last_shown); });
   const Matrix3d& q = report.process_noise;
   spdlog::info("best epoch {}: validation error {:.4f} m (constant velocity: {:.4f} m); Q at Δt = {:.3f} s: "
                "diag({:.3g}, {:.3g}, {:.3g}) m²; model written to {}",
