@@ -12,6 +12,7 @@
 #include "stgf/io/measurement_file.hpp"
 #include "stgf/io/method_config_file.hpp"
 #include "stgf/learn/learned_methods.hpp"
+#include "stgf/learn/spatiotemporal_graph_filter.hpp"
 #include "stgf/methods/run_method.hpp"
 
 namespace stgf::cli {
@@ -28,12 +29,12 @@ struct RunOptions {
 void run(const RunOptions& options) {
   const auto start = std::chrono::steady_clock::now();
   const MethodConfig config = options.config.empty() ? MethodConfig{} : read_method_config(options.config);
-  const bool learned = options.method == "sttp" || options.method == "ours-l";
+  const bool learned = options.method == "sttp" || options.method == "ours-l" || options.method == "ours";
   if (learned && options.model.empty()) throw std::invalid_argument("--method " + options.method + " needs --model");
   std::optional<MotionModel> model;
   if (learned) {
     model = MotionModel::load(options.model);
-    const std::string wanted = history_source_of_method(options.method) == HistorySource::kRawView ? "raw" : "fused";
+    const std::string wanted = options.method == "sttp" ? "raw" : "fused";
     const std::string trained = model->metadata().value("input", "");
     if (trained != wanted) {
       throw std::invalid_argument(options.model + " was trained on " + (trained.empty() ? "unknown" : trained) +
@@ -42,8 +43,11 @@ void run(const RunOptions& options) {
     }
   }
   MeasurementFile measurements = read_measurements(options.measurements);
-  const std::vector<Gaussian3> positions = learned ? run_learned_method(options.method, *model, measurements.rows)
-                                                   : run_method(options.method, config, measurements.rows);
+  const std::vector<Gaussian3> positions =
+      options.method == "ours"
+          ? run_localizer([&] { return std::make_unique<SpatiotemporalGraphFilter>(*model); }, measurements.rows)
+      : learned ? run_learned_method(options.method, *model, measurements.rows)
+                : run_method(options.method, config, measurements.rows);
   std::size_t steps = 0;
   const std::vector<Scene> scenes = group_into_scenes(measurements.rows);
   for (const Scene& scene : scenes) steps += scene.steps.size();
@@ -68,14 +72,14 @@ void add_run_command(CLI::App& app) {
   auto options = std::make_shared<RunOptions>();
   CLI::App* command = app.add_subcommand(
       "run", "Run a localization method over a measurements file and write one estimate per measured row.");
-  command->add_option("--method", options->method, "aom | wls | mmt | sttp | ours-l")
+  command->add_option("--method", options->method, "aom | wls | mmt | sttp | ours-l | ours")
       ->required()
-      ->check(CLI::IsMember({"aom", "wls", "mmt", "sttp", "ours-l"}));
+      ->check(CLI::IsMember({"aom", "wls", "mmt", "sttp", "ours-l", "ours"}));
   command->add_option("--measurements", options->measurements, "measurements CSV (scene,t,view,object,x,y,z,cov_*)")
       ->required();
   command->add_option("--out", options->out, "estimates CSV to write")->required();
   command->add_option("--config", options->config, "YAML method settings (see config/methods.yaml)");
-  command->add_option("--model", options->model, "model file from stgf train (for sttp and ours-l)");
+  command->add_option("--model", options->model, "model file from stgf train (for sttp, ours-l and ours)");
   command->callback([options] { run(*options); });
 }
 

@@ -43,6 +43,7 @@
 #include <nlohmann/json.hpp>
 
 #include "stgf/learn/motion_graph.hpp"
+#include "stgf/learn/motion_predictor.hpp"
 
 namespace stgf {
 
@@ -62,11 +63,11 @@ struct MotionNormalisation {
   double length = 5.0;    // s_p (m)
 };
 
-class MotionModel {
+class MotionModel final : public MotionPredictor {
  public:
   // A new model with random weights drawn from `seed`.
   MotionModel(const MotionModelShape& shape, const MotionNormalisation& normalisation, std::uint64_t seed);
-  ~MotionModel();
+  ~MotionModel() override;
   MotionModel(MotionModel&&) noexcept;
   MotionModel& operator=(MotionModel&&) noexcept;
 
@@ -79,10 +80,12 @@ class MotionModel {
   // Predicted positions at each graph's target time, per graph and object, in order. Graphs are
   // batched into one forward pass. An object with a single history position gets Φ's prediction
   // with zero velocity input (in practice: the constant-position model plus what its neighbours say).
-  std::vector<std::vector<Vector3d>> predict(std::span<const MotionGraph> graphs) const;
+  std::vector<std::vector<Vector3d>> predict(std::span<const MotionGraph> graphs) const override;
 
   // Q for a prediction interval of `dt` seconds.
-  Matrix3d process_noise(double dt) const;
+  Matrix3d process_noise(double dt) const override;
+  int history_positions() const override { return shape().history_length + 1; }
+  double typical_speed() const override { return normalisation().speed; }
   void set_process_noise(const Matrix3d& reference, double reference_period);
 
   const MotionModelShape& shape() const;

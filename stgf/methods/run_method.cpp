@@ -9,16 +9,22 @@ namespace stgf {
 
 std::vector<Gaussian3> run_method(const std::string& name, const MethodConfig& config,
                                   std::span<const Measurement> measurements) {
+  make_localizer(name, config);  // an unknown name fails before any work
+  return run_localizer([&] { return make_localizer(name, config); }, measurements);
+}
+
+std::vector<Gaussian3> run_localizer(const std::function<std::unique_ptr<Localizer>()>& make_scene_localizer,
+                                     std::span<const Measurement> measurements) {
   std::vector<std::optional<Gaussian3>> estimates(measurements.size());
   std::vector<const Measurement*> step_measurements;
   for (const Scene& scene : group_into_scenes(measurements)) {
-    const std::unique_ptr<Localizer> localizer = make_localizer(name, config);
+    const std::unique_ptr<Localizer> localizer = make_scene_localizer();
     for (const Step& step : scene.steps) {
       step_measurements.clear();
       for (std::size_t row : step.rows) step_measurements.push_back(&measurements[row]);
       std::vector<Gaussian3> step_estimates = localizer->step(step.time, step_measurements);
       if (step_estimates.size() != step.rows.size()) {
-        throw std::logic_error("method '" + name + "' returned the wrong number of estimates");
+        throw std::logic_error("a localizer returned the wrong number of estimates");
       }
       for (std::size_t k = 0; k < step.rows.size(); ++k) estimates[step.rows[k]] = step_estimates[k];
     }

@@ -1,6 +1,8 @@
 #pragma once
 // Runs a method over a whole measurement set: a fresh Localizer per scene, steps in time order.
 
+#include <functional>
+#include <memory>
 #include <span>
 #include <string>
 #include <vector>
@@ -9,7 +11,12 @@
 
 namespace stgf {
 
-// One estimate per measurement row, in the order of `measurements`.
+// One estimate per measurement row, in the order of `measurements`, from a fresh Localizer made by
+// `make_scene_localizer()` for every scene.
+std::vector<Gaussian3> run_localizer(const std::function<std::unique_ptr<Localizer>()>& make_scene_localizer,
+                                     std::span<const Measurement> measurements);
+
+// run_localizer with the named model-based method.
 std::vector<Gaussian3> run_method(const std::string& name, const MethodConfig& config,
                                   std::span<const Measurement> measurements);
 

@@ -1,0 +1,76 @@
+#include "stgf/learn/spatiotemporal_graph_filter.hpp"
+
+#include <optional>
+#include <string_view>
+#include <unordered_map>
+
+#include "stgf/core/multi_view_update.hpp"
+
+namespace stgf {
+namespace {
+
+constexpr double kDiffuseVariance = 1e4;  // m², DESIGN §1.5
+
+}  // namespace
+
+std::vector<Gaussian3> SpatiotemporalGraphFilter::step(double time,
+                                                       std::span<const Measurement* const> measurements) {
+  // Every view's measurements of each object, shared by all views.
+  std::unordered_map<std::string_view, std::vector<Gaussian3>> measurements_of_object;
+  for (const Measurement* measurement : measurements) {
+    measurements_of_object[measurement->object].push_back(measurement->position);
+  }
+
+  // The graph of each view: the objects it measures now and has tracked before (views in order of
+  // first appearance among the rows, objects in row order).
+  std::vector<MotionGraph> graphs;
+  std::unordered_map<std::string_view, std::size_t> graph_of_view;
+  std::vector<std::optional<std::pair<std::size_t, std::size_t>>> prediction_of_row(measurements.size());
+  for (std::size_t row = 0; row < measurements.size(); ++row) {
+    const Measurement& measurement = *measurements[row];
+    const auto view = tracks_.find(measurement.view);
+    if (view == tracks_.end()) continue;
+    const auto track = view->second.find(measurement.object);
+    if (track == view->second.end()) continue;
+    const auto [entry, inserted] = graph_of_view.try_emplace(measurement.view, graphs.size());
+    if (inserted) graphs.push_back(MotionGraph{measurement.scene, measurement.view, time, {}});
+    MotionGraph& graph = graphs[entry->second];
+    ObjectHistory history{measurement.object, {}, {}};
+    for (const TrackPoint& point : track->second) {
+      history.positions.push_back(point.estimate.mean());
+      history.times.push_back(point.time);
+    }
+    prediction_of_row[row] = std::make_pair(entry->second, graph.objects.size());
+    graph.objects.push_back(std::move(history));
+  }
+  const std::vector<std::vector<Vector3d>> predicted = predictor_.predict(graphs);
+
+  std::vector<Gaussian3> estimates;
+  estimates.reserve(measurements.size());
+  const auto history_limit = static_cast<std::size_t>(predictor_.history_positions());
+  for (std::size_t row = 0; row < measurements.size(); ++row) {
+    const Measurement& measurement = *measurements[row];
+    Track& track = tracks_[measurement.view][measurement.object];
+    std::optional<Gaussian3> prior;
+    if (const auto& index = prediction_of_row[row]) {
+      // P = P̂_last + Q(Δt), plus the unknown velocity's spread for a single-position track.
+      const TrackPoint& last = track.back();
+      const double dt = time - last.time;
+      Matrix3d covariance = last.estimate.covariance() + predictor_.process_noise(dt);
+      if (track.size() == 1) {
+        const double spread = predictor_.typical_speed() * dt;
+        covariance += spread * spread * Matrix3d::Identity();
+      }
+      prior = Gaussian3::from_covariance(predicted[index->first][index->second], covariance);
+    } else {
+      prior = Gaussian3::from_covariance(Vector3d::Zero(), kDiffuseVariance * Matrix3d::Identity());
+    }
+    const Gaussian3 fused = multi_view_update(*prior, measurements_of_object.at(measurement.object));
+    track.push_back(TrackPoint{time, fused});
+    if (track.size() > history_limit) track.pop_front();
+    estimates.push_back(fused);
+  }
+  return estimates;
+}
+
+}  // namespace stgf

@@ -1,0 +1,48 @@
+#pragma once
+// `ours`: the spatiotemporal graph filter (DESIGN §1, paper Algorithm 1), as a streaming
+// Localizer: feed it the measurements of one step at a time, get one estimate per measurement.
+//
+// Every view v keeps its own track of each object it has measured: the fused estimates
+// (x̂, P̂) of its past steps (the paper's decentralised form). At a step with measurement set M_t:
+//   1. Predict. For each view v and each object i that v measures at t and has tracked before, Φ
+//      predicts x from v's track of i (and v's other tracked objects, the graph of view v); all
+//      views' graphs go through Φ in one batched pass.
+//      P = P̂_last + Q(Δt)  (+ (s Δt)² I when the track holds a single position: no velocity yet).
+//      An object v has not tracked before starts diffuse: x = 0, P = 10⁴ I.
+//   2. Update. The multi-view update with the measurements of i by every view at t (shared):
+//      S = P⁻¹ + Σ_u R_u⁻¹, P̂ = S⁻¹, x̂ = P̂ (P⁻¹ x + Σ_u R_u⁻¹ z_u).
+//   3. Feedback. (t, x̂, P̂) is appended to v's track of i (the last line of Algorithm 1), so the
+//      next prediction runs on fused positions.
+// A step with no measurement changes nothing; views may join or leave at any step; an object a
+// view misses for a while keeps its older track, and Φ predicts across the gap from real times.
+// The estimate of row (v, i) is view v's fused estimate of i.
+
+#include <deque>
+#include <map>
+#include <string>
+
+#include "stgf/learn/motion_predictor.hpp"
+#include "stgf/methods/localizer.hpp"
+
+namespace stgf {
+
+class SpatiotemporalGraphFilter final : public Localizer {
+ public:
+  // `predictor` must outlive the filter.
+  explicit SpatiotemporalGraphFilter(const MotionPredictor& predictor) : predictor_(predictor) {}
+
+  std::vector<Gaussian3> step(double time, std::span<const Measurement* const> measurements) override;
+
+ private:
+  struct TrackPoint {
+    double time;
+    Gaussian3 estimate;
+  };
+  using Track = std::deque<TrackPoint>;  // oldest first, at most predictor_.history_positions()
+
+  const MotionPredictor& predictor_;
+  // view → object → track
+  std::map<std::string, std::map<std::string, Track, std::less<>>, std::less<>> tracks_;
+};
+
+}  // namespace stgf

@@ -1,0 +1,95 @@
+// `ours` as a streaming filter: with one view and a constant-velocity predictor it is exactly a
+// Kalman filter (H = I); steps with no views change nothing; views may join mid-scene.
+
+#include "stgf/learn/spatiotemporal_graph_filter.hpp"
+
+#include <Eigen/LU>
+#include <gtest/gtest.h>
+
+#include "stgf/core/multi_view_update.hpp"
+
+namespace stgf {
+namespace {
+
+Measurement measurement(double time, const std::string& view, const std::string& object, const Vector3d& z,
+                        const Matrix3d& r) {
+  return Measurement{"s", time, view, object, Gaussian3::from_covariance(z, r), std::nullopt};
+}
+
+std::vector<Gaussian3> step(SpatiotemporalGraphFilter& filter, double time, const std::vector<Measurement>& rows) {
+  std::vector<const Measurement*> pointers;
+  for (const Measurement& row : rows) pointers.push_back(&row);
+  return filter.step(time, pointers);
+}
+
+// The Kalman update with H = I, written out with explicit inverses.
+void kalman_update(Vector3d& x, Matrix3d& p, const Vector3d& z, const Matrix3d& r) {
+  const Matrix3d gain = p * (p + r).inverse();
+  x = x + gain * (z - x);
+  p = (Matrix3d::Identity() - gain) * p;
+}
+
+TEST(SpatiotemporalGraphFilter, OneViewWithConstantVelocityIsAKalmanFilter) {
+  const double q = 0.3, speed = 1.5, dt = 0.25;
+  const ConstantVelocityPredictor predictor(q, speed);
+  SpatiotemporalGraphFilter filter(predictor);
+  Matrix3d r;
+  r << 0.04, 0.01, 0, 0.01, 0.09, 0.002, 0, 0.002, 0.02;
+  const std::vector<Vector3d> zs = {{1.0, 2.0, 0.0}, {1.4, 2.1, 0.05}, {1.9, 2.3, -0.02}, {2.3, 2.2, 0.0}, {2.8, 2.4, 0.01}};
+
+  // Reference: diffuse start, then predict with the velocity of the last two fused positions.
+  std::vector<Vector3d> fused;
+  Vector3d x = Vector3d::Zero();
+  Matrix3d p = 1e4 * Matrix3d::Identity();
+  for (std::size_t k = 0; k < zs.size(); ++k) {
+    if (k > 0) {
+      const Vector3d velocity = k >= 2 ? Vector3d((fused[k - 1] - fused[k - 2]) / dt) : Vector3d::Zero();
+      x = fused[k - 1] + velocity * dt;
+      p = p + q * dt * dt * Matrix3d::Identity();
+      if (k == 1) p += (speed * dt) * (speed * dt) * Matrix3d::Identity();
+    }
+    kalman_update(x, p, zs[k], r);
+    fused.push_back(x);
+    const std::vector<Gaussian3> estimates = step(filter, k * dt, {measurement(k * dt, "v", "o", zs[k], r)});
+    ASSERT_EQ(estimates.size(), 1u);
+    EXPECT_LT((estimates[0].mean() - x).norm(), 1e-9) << "step " << k;
+    EXPECT_LT((estimates[0].covariance() - p).norm(), 1e-9) << "step " << k;
+  }
+}
+
+TEST(SpatiotemporalGraphFilter, StepWithoutViewsChangesNothing) {
+  const ConstantVelocityPredictor predictor(0.1, 1.0);
+  SpatiotemporalGraphFilter with_gap(predictor), reference(predictor);
+  const Matrix3d r = 0.01 * Matrix3d::Identity();
+  for (SpatiotemporalGraphFilter* filter : {&with_gap, &reference}) {
+    step(*filter, 0.0, {measurement(0.0, "v", "o", Vector3d(0, 0, 0), r)});
+    step(*filter, 0.1, {measurement(0.1, "v", "o", Vector3d(0.1, 0, 0), r)});
+  }
+  EXPECT_TRUE(step(with_gap, 0.2, {}).empty());
+  const auto a = step(with_gap, 0.3, {measurement(0.3, "v", "o", Vector3d(0.3, 0, 0), r)});
+  const auto b = step(reference, 0.3, {measurement(0.3, "v", "o", Vector3d(0.3, 0, 0), r)});
+  EXPECT_EQ(a[0].mean(), b[0].mean());
+  EXPECT_EQ(a[0].covariance(), b[0].covariance());
+}
+
+// A view that joins mid-scene starts diffuse, so its first estimate is (almost exactly) the
+// information-weighted mean of the step's measurements, while the older view fuses its prediction.
+TEST(SpatiotemporalGraphFilter, ViewJoiningMidSceneStartsFromTheMeasurements) {
+  const ConstantVelocityPredictor predictor(0.1, 1.0);
+  SpatiotemporalGraphFilter filter(predictor);
+  const Matrix3d r = 0.04 * Matrix3d::Identity();
+  for (int k = 0; k < 3; ++k) step(filter, 0.1 * k, {measurement(0.1 * k, "a", "o", Vector3d(0.1 * k, 0, 0), r)});
+  const std::vector<Measurement> rows = {measurement(0.3, "a", "o", Vector3d(0.32, 0, 0), r),
+                                         measurement(0.3, "b", "o", Vector3d(0.28, 0.02, 0), r)};
+  const std::vector<Gaussian3> estimates = step(filter, 0.3, rows);
+  ASSERT_EQ(estimates.size(), 2u);
+  const Gaussian3 mean = information_weighted_mean(std::vector<Gaussian3>{rows[0].position, rows[1].position});
+  EXPECT_LT((estimates[1].mean() - mean.mean()).norm(), 1e-5);
+  EXPECT_LT(estimates[0].covariance().trace(), estimates[1].covariance().trace());  // a had a prediction too
+  // Both views keep tracking from here.
+  const auto next = step(filter, 0.4, {measurement(0.4, "b", "o", Vector3d(0.4, 0.01, 0), r)});
+  EXPECT_LT(next[0].covariance().trace(), 3 * 0.04);
+}
+
+}  // namespace
+}  // namespace stgf
