@@ -1,5 +1,7 @@
 #include "stgf/learn/learned_methods.hpp"
 
+#include <algorithm>
+#include <optional>
 #include <stdexcept>
 #include <string_view>
 #include <unordered_map>
@@ -12,14 +14,17 @@ namespace {
 
 constexpr std::size_t kGraphsPerForwardPass = 4096;
 
-// The fused measurement of each row's object at the row's step (information-weighted mean of all views).
-std::vector<Gaussian3> fused_measurements(std::span<const Measurement> measurements) {
+// The fused measurement (information-weighted mean of all views) of the object of every row that
+// `needed` marks, at the row's step; nullopt for the other rows. Only objects with such a row are fused.
+std::vector<std::optional<Gaussian3>> fused_measurements(std::span<const Measurement> measurements,
+                                                         const std::vector<bool>& needed) {
   std::vector<std::optional<Gaussian3>> fused(measurements.size());
   for (const Scene& scene : group_into_scenes(measurements)) {
     for (const Step& step : scene.steps) {
       std::unordered_map<std::string_view, std::vector<std::size_t>> rows_of_object;
       for (std::size_t row : step.rows) rows_of_object[measurements[row].object].push_back(row);
       for (const auto& [object, rows] : rows_of_object) {
+        if (std::none_of(rows.begin(), rows.end(), [&](std::size_t row) { return needed[row]; })) continue;
         std::vector<Gaussian3> views;
         for (std::size_t row : rows) views.push_back(measurements[row].position);
         const Gaussian3 mean = information_weighted_mean(views);
@@ -27,10 +32,7 @@ std::vector<Gaussian3> fused_measurements(std::span<const Measurement> measureme
       }
     }
   }
-  std::vector<Gaussian3> result;
-  result.reserve(fused.size());
-  for (const auto& value : fused) result.push_back(*value);
-  return result;
+  return fused;
 }
 
 }  // namespace
@@ -53,15 +55,19 @@ std::vector<Gaussian3> run_learned_method(const std::string& method, const Motio
     for (auto& graph : model.predict(std::span(set.graphs).subspan(first, count))) predictions.push_back(std::move(graph));
   }
 
-  const std::vector<Gaussian3> starts =
-      source == HistorySource::kFused ? fused_measurements(measurements) : std::vector<Gaussian3>{};
+  // Rows without history (first sightings) start from the fused measurement for ours-l.
+  std::vector<bool> first_sighting(measurements.size());
+  for (std::size_t row = 0; row < measurements.size(); ++row) first_sighting[row] = !set.predictor_of_row[row];
+  const std::vector<std::optional<Gaussian3>> starts = source == HistorySource::kFused
+                                                           ? fused_measurements(measurements, first_sighting)
+                                                           : std::vector<std::optional<Gaussian3>>{};
   const double speed = model.normalisation().speed;
   std::vector<Gaussian3> estimates;
   estimates.reserve(measurements.size());
   for (std::size_t row = 0; row < measurements.size(); ++row) {
     const auto& index = set.predictor_of_row[row];
     if (!index) {
-      estimates.push_back(source == HistorySource::kFused ? starts[row] : measurements[row].position);
+      estimates.push_back(source == HistorySource::kFused ? *starts[row] : measurements[row].position);
       continue;
     }
     const MotionGraph& graph = set.graphs[index->graph];

@@ -1,5 +1,6 @@
 #include "stgf/methods/run_method.hpp"
 
+#include <algorithm>
 #include <optional>
 #include <stdexcept>
 
@@ -9,7 +10,8 @@ namespace stgf {
 
 std::vector<Gaussian3> run_method(const std::string& name, const MethodConfig& config,
                                   std::span<const Measurement> measurements) {
-  make_localizer(name, config);  // an unknown name fails before any work
+  const auto& names = method_names();
+  if (std::find(names.begin(), names.end(), name) == names.end()) make_localizer(name, config);  // throws: unknown name
   return run_localizer([&] { return make_localizer(name, config); }, measurements);
 }
 
