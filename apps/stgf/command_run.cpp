@@ -12,6 +12,7 @@
 #include "stgf/io/measurement_file.hpp"
 #include "stgf/io/method_config_file.hpp"
 #include "stgf/learn/learned_methods.hpp"
+#include "stgf/learn/registration_metadata.hpp"
 #include "stgf/learn/spatiotemporal_graph_filter.hpp"
 #include "stgf/methods/run_method.hpp"
 
@@ -42,10 +43,21 @@ void run(const RunOptions& options) {
                                   wanted);
     }
   }
+  RegistrationPrior registration;
+  if (options.method == "ours") {
+    bool missing = false;
+    registration = resolve_registration_prior(config.ours, model->metadata(), options.model, &missing);
+    if (missing) {
+      spdlog::warn("{} holds no registration calibration (trained before stgf calibrated it); views' offsets are "
+                   "taken as zero unless set under `ours:` in --config",
+                   options.model);
+    }
+  }
   MeasurementFile measurements = read_measurements(options.measurements);
   const std::vector<Gaussian3> positions =
       options.method == "ours"
-          ? run_localizer([&] { return std::make_unique<SpatiotemporalGraphFilter>(*model); }, measurements.rows)
+          ? run_localizer([&] { return std::make_unique<SpatiotemporalGraphFilter>(*model, registration); },
+                          measurements.rows)
       : learned ? run_learned_method(options.method, *model, measurements.rows)
                 : run_method(options.method, config, measurements.rows);
   std::size_t steps = 0;

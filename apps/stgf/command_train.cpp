@@ -10,9 +10,11 @@
 #include <spdlog/spdlog.h>
 
 #include "commands.hpp"
+#include "stgf/core/registration_calibration.hpp"
 #include "stgf/io/measurement_file.hpp"
 #include "stgf/io/truth_file.hpp"
 #include "stgf/learn/motion_graphs.hpp"
+#include "stgf/learn/registration_metadata.hpp"
 #include "stgf/learn/motion_training.hpp"
 
 namespace stgf::cli {
@@ -26,11 +28,21 @@ struct TrainOptions {
   MotionTrainingOptions training;
 };
 
-std::vector<TrainingGraph> split_graphs(const std::string& folder, HistorySource source, int history_length) {
+struct Split {
+  std::vector<TrainingGraph> graphs;
+  RegistrationCalibration registration;  // of the views' unstated offsets, from measurements against truth
+};
+
+Split read_split(const std::string& folder, HistorySource source, int history_length) {
   const MeasurementFile measurements = read_measurements(folder + "/measurements.csv");
   const TruthFile truth = read_truth(folder + "/truth.csv");
   check_truth_matches(measurements, truth);
-  return make_training_graphs(measurements.rows, TruthIndex(truth), source, history_length);
+  const TruthIndex index(truth);
+  std::vector<Vector3d> truth_of_row;
+  truth_of_row.reserve(measurements.rows.size());
+  for (const Measurement& row : measurements.rows) truth_of_row.push_back(*index.find(row.scene, row.time, row.object));
+  return {make_training_graphs(measurements.rows, index, source, history_length),
+          calibrate_registration_prior(measurements.rows, truth_of_row)};
 }
 
 std::string duration(double seconds) {
@@ -71,11 +83,19 @@ void train(TrainOptions options) {
   options.training.metadata = {{"input", options.input}, {"benchmark", options.benchmark}};
   const int history = options.training.shape.history_length + 1;  // positions = intervals + 1
   const auto start = std::chrono::steady_clock::now();
-  const std::vector<TrainingGraph> train_graphs = split_graphs(options.benchmark + "/train", source, history);
-  const std::vector<TrainingGraph> validation_graphs = split_graphs(options.benchmark + "/val", source, history);
+  const std::vector<TrainingGraph> train_graphs = read_split(options.benchmark + "/train", source, history).graphs;
+  const Split validation = read_split(options.benchmark + "/val", source, history);
+  const std::vector<TrainingGraph>& validation_graphs = validation.graphs;
   spdlog::info("{} training and {} validation graphs ({} histories) read in {:.1f} s", train_graphs.size(),
                validation_graphs.size(), options.input,
                std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
+  const RegistrationPrior& registration = validation.registration.prior;
+  spdlog::info("registration error on the validation split ({} scene-views): translation sigma ({:.3g}, {:.3g}, "
+               "{:.3g}) m, noise ratio {:.3g}",
+               validation.registration.groups, registration.translation_sigma.x(),
+               registration.translation_sigma.y(), registration.translation_sigma.z(), registration.noise_ratio);
+  options.training.metadata["registration"] = registration_prior_to_json(registration);
+  options.training.metadata["registration"]["calibrated_on"] = options.benchmark + "/val";
   const bool terminal = ::isatty(::fileno(stderr)) != 0;
   double last_shown = -1.0;
   const TrainingReport report = train_motion_model(

@@ -46,6 +46,46 @@ void read_mmt(const std::string& path, const YAML::Node& node, ConstantVelocityM
   }
 }
 
+double non_negative_number(const std::string& path, const std::string& key, const YAML::Node& node) {
+  double value = 0.0;
+  try {
+    value = node.as<double>();
+  } catch (const YAML::Exception&) {
+    throw InputError(path, line_of(node), key + " must be a number");
+  }
+  if (!std::isfinite(value) || value < 0.0) throw InputError(path, line_of(node), key + " must be a finite number >= 0");
+  return value;
+}
+
+void read_ours(const std::string& path, const YAML::Node& node, OursSettings& settings) {
+  if (!node.IsMap()) throw InputError(path, line_of(node), "ours must be a mapping of settings");
+  for (const auto& entry : node) {
+    const std::string key = entry.first.as<std::string>();
+    const std::string name = "ours." + key;
+    if (key == "registration") {
+      try {
+        settings.registration = entry.second.as<bool>();
+      } catch (const YAML::Exception&) {
+        throw InputError(path, line_of(entry.second), name + " must be true or false");
+      }
+    } else if (key == "registration_translation_sigma_m") {
+      const YAML::Node& value = entry.second;
+      if (value.IsSequence()) {
+        if (value.size() != 3) throw InputError(path, line_of(value), name + " must be one number or a list of three (x, y, z)");
+        settings.translation_sigma = Vector3d(non_negative_number(path, name, value[0]),
+                                              non_negative_number(path, name, value[1]),
+                                              non_negative_number(path, name, value[2]));
+      } else {
+        settings.translation_sigma = Vector3d::Constant(non_negative_number(path, name, value));
+      }
+    } else if (key == "registration_noise_ratio") {
+      settings.noise_ratio = non_negative_number(path, name, entry.second);
+    } else {
+      throw InputError(path, line_of(entry.first), "unknown setting '" + name + "'");
+    }
+  }
+}
+
 }  // namespace
 
 MethodConfig parse_method_config(const std::string& path, const std::string& text) {
@@ -62,8 +102,10 @@ MethodConfig parse_method_config(const std::string& path, const std::string& tex
     const std::string method = entry.first.as<std::string>();
     if (method == "mmt") {
       read_mmt(path, entry.second, config.mmt);
+    } else if (method == "ours") {
+      read_ours(path, entry.second, config.ours);
     } else {
-      throw InputError(path, line_of(entry.first), "unknown section '" + method + "' (known: mmt)");
+      throw InputError(path, line_of(entry.first), "unknown section '" + method + "' (known: mmt, ours)");
     }
   }
   return config;

@@ -17,8 +17,15 @@ std::vector<Gaussian3> SpatiotemporalGraphFilter::step(double time,
                                                        std::span<const Measurement* const> measurements) {
   // Every view's measurements of each object, shared by all views.
   std::unordered_map<std::string_view, std::vector<Gaussian3>> measurements_of_object;
+  std::unordered_map<std::string_view, std::vector<const Measurement*>> rows_of_object;
   for (const Measurement* measurement : measurements) {
     measurements_of_object[measurement->object].push_back(measurement->position);
+    rows_of_object[measurement->object].push_back(measurement);
+  }
+  // With registration offsets to account for: one corrected, combined measurement per object.
+  std::unordered_map<std::string_view, Gaussian3> combined;
+  if (registration_.active()) {
+    for (const auto& [object, rows] : rows_of_object) combined.emplace(object, registration_.combine(rows));
   }
 
   // The graph of each view: the objects it measures now and has tracked before (views in order of
@@ -65,11 +72,14 @@ std::vector<Gaussian3> SpatiotemporalGraphFilter::step(double time,
     } else {
       prior = Gaussian3::from_covariance(Vector3d::Zero(), kDiffuseVariance * Matrix3d::Identity());
     }
-    const Gaussian3 fused = multi_view_update(*prior, measurements_of_object.at(measurement.object));
+    const Gaussian3 fused = !registration_.active()
+                                ? multi_view_update(*prior, measurements_of_object.at(measurement.object))
+                                : multi_view_update(*prior, std::span(&combined.at(measurement.object), 1));
     track.push_back(TrackPoint{time, fused});
     if (track.size() > history_limit) track.pop_front();
     estimates.push_back(fused);
   }
+  registration_.learn(measurements);
   return estimates;
 }
 

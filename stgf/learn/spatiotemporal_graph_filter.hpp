@@ -11,6 +11,10 @@
 //      An object v has not tracked before starts diffuse: x = 0, P = 10⁴ I.
 //   2. Update. The multi-view update with the measurements of i by every view at t (shared):
 //      S = P⁻¹ + Σ_u R_u⁻¹, P̂ = S⁻¹, x̂ = P̂ (P⁻¹ x + Σ_u R_u⁻¹ z_u).
+//      With a registration prior (view_registration.hpp), the measurements are first corrected by
+//      each view's estimated offset and combined into one measurement whose covariance keeps what is
+//      left of the offsets' uncertainty; the update then takes that one. After the step, the offsets
+//      learn from what the views disagreed on. With a zero prior this is exactly the plain update.
 //   3. Feedback. (t, x̂, P̂) is appended to v's track of i (the last line of Algorithm 1), so the
 //      next prediction runs on fused positions.
 // A step with no measurement changes nothing; views may join or leave at any step; an object a
@@ -21,6 +25,7 @@
 #include <map>
 #include <string>
 
+#include "stgf/core/view_registration.hpp"
 #include "stgf/learn/motion_predictor.hpp"
 #include "stgf/methods/localizer.hpp"
 
@@ -28,8 +33,9 @@ namespace stgf {
 
 class SpatiotemporalGraphFilter final : public Localizer {
  public:
-  // `predictor` must outlive the filter.
-  explicit SpatiotemporalGraphFilter(const MotionPredictor& predictor) : predictor_(predictor) {}
+  // `predictor` must outlive the filter. `registration`: the views' unstated offsets (zero: none).
+  explicit SpatiotemporalGraphFilter(const MotionPredictor& predictor, const RegistrationPrior& registration = {})
+      : predictor_(predictor), registration_(registration) {}
 
   std::vector<Gaussian3> step(double time, std::span<const Measurement* const> measurements) override;
 
@@ -41,6 +47,7 @@ class SpatiotemporalGraphFilter final : public Localizer {
   using Track = std::deque<TrackPoint>;  // oldest first, at most predictor_.history_positions()
 
   const MotionPredictor& predictor_;
+  ViewRegistration registration_;
   // view → object → track
   std::map<std::string, std::map<std::string, Track, std::less<>>, std::less<>> tracks_;
 };

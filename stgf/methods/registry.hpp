@@ -2,6 +2,7 @@
 // Methods by name, as the CLI's `--method` knows them.
 
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -10,9 +11,17 @@
 
 namespace stgf {
 
+// How `ours` accounts for the views' registration error (core/view_registration.hpp).
+struct OursSettings {
+  bool registration = true;                   // estimate each view's offset and keep its uncertainty
+  std::optional<Vector3d> translation_sigma;  // σ of the translation offset (m); unset: the model's calibration
+  std::optional<double> noise_ratio;          // σ of the noise-unit offset; unset: the model's calibration
+};
+
 // Settings of every method, read from the YAML config (see config/methods.yaml).
 struct MethodConfig {
   ConstantVelocityModel mmt;
+  OursSettings ours;
 };
 
 // The names `make_localizer` accepts, in the order tables list them.

@@ -1,0 +1,31 @@
+#pragma once
+// Calibrates the registration prior (view_registration.hpp) from measurements whose truth is known —
+// a validation split, as Q is calibrated (DESIGN §1.2) — by maximum marginal likelihood.
+//
+// For every (scene, view) group g of rows k, the residuals r_k = z_k − y_k follow
+//     r_k = H_k β_g + e_k,   β_g ~ N(0, Λ₀⁻¹),   e_k ~ N(0, R_k),   H_k = [I₃  L_k],
+// with Λ₀ = diag(σ_x⁻², σ_y⁻², σ_z⁻², α⁻², α⁻², α⁻²). Integrating β_g out, with the group's sufficient
+// statistics A_g = Σ H_kᵀ R_k⁻¹ H_k, b_g = Σ H_kᵀ R_k⁻¹ r_k:
+//     log p(r_g) = const − ½ [ −b_gᵀ (Λ₀ + A_g)⁻¹ b_g + log det(Λ₀ + A_g) − log det Λ₀ ].
+// The four parameters maximise Σ_g log p(r_g): a coordinate search over log-spaced grids (σ in
+// [10⁻⁴, 30] m, α in [10⁻⁴, 100]), coarse then fine, repeated until no coordinate moves. Parameters the
+// data do not support end at the bottom of their range (≈ 0: no such offset).
+
+#include <span>
+
+#include "stgf/core/records.hpp"
+#include "stgf/core/view_registration.hpp"
+
+namespace stgf {
+
+struct RegistrationCalibration {
+  RegistrationPrior prior;
+  std::size_t groups = 0;           // (scene, view) groups used
+  double log_likelihood_gain = 0;   // over the zero prior (no registration error), nats per group
+};
+
+// `truth[k]` is the true position of the object of `measurements[k]`.
+RegistrationCalibration calibrate_registration_prior(std::span<const Measurement> measurements,
+                                                     std::span<const Vector3d> truth);
+
+}  // namespace stgf

@@ -1,0 +1,172 @@
+#include "stgf/core/view_registration.hpp"
+
+#include <cmath>
+#include <stdexcept>
+#include <string_view>
+#include <vector>
+
+namespace stgf {
+namespace {
+
+using Matrix36 = Eigen::Matrix<double, 3, 6>;
+
+// H = [I₃  L] with L Lᵀ = R.
+Matrix36 offset_jacobian(const Matrix3d& covariance) {
+  Matrix36 jacobian;
+  jacobian.leftCols<3>().setIdentity();
+  jacobian.rightCols<3>() = covariance.llt().matrixL();
+  return jacobian;
+}
+
+}  // namespace
+
+ViewRegistration::ViewRegistration(const RegistrationPrior& prior) : prior_(prior) {
+  for (int axis = 0; axis < 3; ++axis) {
+    const double sigma = prior.translation_sigma[axis];
+    if (!std::isfinite(sigma) || sigma < 0.0) {
+      throw std::invalid_argument("registration translation sigma must be finite and >= 0");
+    }
+  }
+  if (!std::isfinite(prior.noise_ratio) || prior.noise_ratio < 0.0) {
+    throw std::invalid_argument("registration noise ratio must be finite and >= 0");
+  }
+  prior_covariance_.setZero();
+  prior_covariance_.diagonal().head<3>() = prior.translation_sigma.cwiseProduct(prior.translation_sigma);
+  prior_covariance_.diagonal().tail<3>().setConstant(prior.noise_ratio * prior.noise_ratio);
+}
+
+int ViewRegistration::index_of(std::string_view view) const {
+  const auto found = views_.find(view);
+  return found == views_.end() ? -1 : found->second;
+}
+
+int ViewRegistration::add_view(std::string_view view) {
+  const int known = index_of(view);
+  if (known >= 0) return known;
+  const int index = static_cast<int>(views_.size());
+  views_.emplace(std::string(view), index);
+  const Eigen::Index size = kOffsetSize * (index + 1);
+  offsets_.conservativeResize(size);
+  offsets_.tail<kOffsetSize>().setZero();
+  Eigen::MatrixXd grown = Eigen::MatrixXd::Zero(size, size);
+  grown.topLeftCorner(size - kOffsetSize, size - kOffsetSize) = covariance_;
+  grown.bottomRightCorner<kOffsetSize, kOffsetSize>() = prior_covariance_;
+  covariance_ = std::move(grown);
+  return index;
+}
+
+Eigen::Matrix<double, 6, 1> ViewRegistration::offset(std::string_view view) const {
+  const int index = index_of(view);
+  if (index < 0) return Eigen::Matrix<double, 6, 1>::Zero();
+  return offsets_.segment<kOffsetSize>(kOffsetSize * index);
+}
+
+Eigen::Matrix<double, 6, 6> ViewRegistration::offset_covariance(std::string_view view) const {
+  const int index = index_of(view);
+  if (index < 0) return prior_covariance_;
+  return covariance_.block<kOffsetSize, kOffsetSize>(kOffsetSize * index, kOffsetSize * index);
+}
+
+Gaussian3 ViewRegistration::combine(std::span<const Measurement* const> measurements_of_object) const {
+  const auto k = static_cast<Eigen::Index>(measurements_of_object.size());
+  if (k == 0) throw std::invalid_argument("ViewRegistration::combine needs at least one measurement");
+  std::vector<int> index(static_cast<std::size_t>(k));
+  std::vector<Matrix36> jacobian(static_cast<std::size_t>(k));
+  Eigen::VectorXd corrected(3 * k);
+  for (Eigen::Index j = 0; j < k; ++j) {
+    const Measurement& measurement = *measurements_of_object[static_cast<std::size_t>(j)];
+    index[j] = index_of(measurement.view);
+    jacobian[j] = offset_jacobian(measurement.position.covariance());
+    corrected.segment<3>(3 * j) = measurement.position.mean();
+    if (index[j] >= 0) corrected.segment<3>(3 * j) -= jacobian[j] * offsets_.segment<kOffsetSize>(kOffsetSize * index[j]);
+  }
+  // C = G Σ_VV Gᵀ + diag(R).
+  Eigen::MatrixXd noise(3 * k, 3 * k);
+  for (Eigen::Index j = 0; j < k; ++j) {
+    for (Eigen::Index l = 0; l <= j; ++l) {
+      Eigen::Matrix<double, 6, 6> offsets_covariance;
+      if (index[j] >= 0 && index[l] >= 0) {
+        offsets_covariance = covariance_.block<kOffsetSize, kOffsetSize>(kOffsetSize * index[j], kOffsetSize * index[l]);
+      } else if (j == l) {
+        offsets_covariance = prior_covariance_;  // an unknown view: its prior, independent of the others
+      } else {
+        offsets_covariance.setZero();
+      }
+      Matrix3d block = jacobian[j] * offsets_covariance * jacobian[l].transpose();
+      if (j == l) block += measurements_of_object[static_cast<std::size_t>(j)]->position.covariance();
+      noise.block<3, 3>(3 * j, 3 * l) = block;
+      noise.block<3, 3>(3 * l, 3 * j) = block.transpose();
+    }
+  }
+  // A = Sᵀ C⁻¹ S, η = Sᵀ C⁻¹ c.
+  const Eigen::LLT<Eigen::MatrixXd> factor(noise);
+  if (factor.info() != Eigen::Success) throw std::runtime_error("registration: measurement covariance not positive definite");
+  const Eigen::MatrixXd stacked_identity = Eigen::MatrixXd::Identity(3, 3).replicate(k, 1);
+  const Eigen::MatrixXd weights = factor.solve(stacked_identity);  // C⁻¹ S
+  Matrix3d information = stacked_identity.transpose() * weights;
+  const Vector3d information_vector = weights.transpose() * corrected;
+  return Gaussian3::from_information(information_vector, symmetrised(information));
+}
+
+void ViewRegistration::learn(std::span<const Measurement* const> step) {
+  if (prior_.is_zero()) return;  // nothing to estimate: every offset is exactly zero
+  // Objects in order of first appearance (a fixed order keeps the result bit-reproducible).
+  std::vector<std::string_view> objects;
+  std::map<std::string_view, std::vector<const Measurement*>> of_object;
+  for (const Measurement* measurement : step) {
+    add_view(measurement->view);
+    auto& rows = of_object[measurement->object];
+    if (rows.empty()) objects.push_back(measurement->object);
+    rows.push_back(measurement);
+  }
+  for (const std::string_view object : objects) {
+    const std::vector<const Measurement*>& rows = of_object.at(object);
+    const auto k = static_cast<Eigen::Index>(rows.size());
+    if (k < 2) continue;  // one view alone says nothing about offsets
+    // d_j = z_j − z_0 = H_j β_j − H_0 β_0 + e_j − e_0, j = 1..k−1; only the involved views' columns.
+    const Eigen::Index m = 3 * (k - 1);
+    std::vector<Eigen::Index> column(static_cast<std::size_t>(k));
+    std::vector<Matrix36> jacobian(static_cast<std::size_t>(k));
+    for (Eigen::Index j = 0; j < k; ++j) {
+      column[j] = kOffsetSize * index_of(rows[j]->view);
+      jacobian[j] = offset_jacobian(rows[j]->position.covariance());
+    }
+    Eigen::MatrixXd observation = Eigen::MatrixXd::Zero(m, kOffsetSize * k);  // H_obs on the involved columns
+    Eigen::VectorXd innovation(m);
+    Eigen::MatrixXd noise(m, m);
+    const Matrix3d& first_noise = rows[0]->position.covariance();
+    for (Eigen::Index j = 1; j < k; ++j) {
+      const Eigen::Index r = 3 * (j - 1);
+      observation.block<3, kOffsetSize>(r, 0) = -jacobian[0];
+      observation.block<3, kOffsetSize>(r, kOffsetSize * j) = jacobian[j];
+      innovation.segment<3>(r) = rows[j]->position.mean() - rows[0]->position.mean() -
+                                 jacobian[j] * offsets_.segment<kOffsetSize>(column[j]) +
+                                 jacobian[0] * offsets_.segment<kOffsetSize>(column[0]);
+      for (Eigen::Index l = 1; l < k; ++l) {
+        noise.block<3, 3>(r, 3 * (l - 1)) = first_noise;
+        if (l == j) noise.block<3, 3>(r, 3 * (l - 1)) += rows[j]->position.covariance();
+      }
+    }
+    // Σ H_obsᵀ (all views' rows) and H_obs Σ H_obsᵀ + N.
+    Eigen::MatrixXd cross(covariance_.rows(), m);  // Σ H_obsᵀ
+    cross.setZero();
+    for (Eigen::Index j = 0; j < k; ++j) {
+      cross.noalias() += covariance_.middleCols<kOffsetSize>(column[j]) *
+                         observation.middleCols<kOffsetSize>(kOffsetSize * j).transpose();
+    }
+    Eigen::MatrixXd innovation_covariance = noise;
+    for (Eigen::Index j = 0; j < k; ++j) {
+      innovation_covariance.noalias() += observation.middleCols<kOffsetSize>(kOffsetSize * j) *
+                                         cross.middleRows<kOffsetSize>(column[j]);
+    }
+    innovation_covariance = 0.5 * (innovation_covariance + innovation_covariance.transpose());
+    const Eigen::LLT<Eigen::MatrixXd> factor(innovation_covariance);
+    if (factor.info() != Eigen::Success) continue;  // cannot happen with R positive definite
+    const Eigen::MatrixXd gain_transposed = factor.solve(cross.transpose());  // Kᵀ = S⁻¹ (Σ Hᵀ)ᵀ
+    offsets_.noalias() += gain_transposed.transpose() * innovation;
+    covariance_.noalias() -= cross * gain_transposed;  // Σ − K S Kᵀ = Σ − (ΣHᵀ) S⁻¹ (ΣHᵀ)ᵀ
+    covariance_ = 0.5 * (covariance_ + covariance_.transpose());
+  }
+}
+
+}  // namespace stgf

@@ -1,0 +1,87 @@
+#pragma once
+// Registration error: the part of a view's error that its R does not state and that does not
+// average out over time — a camera's calibration error, a vehicle's GPS pose error. It shifts all of
+// that view's measurements the same way, so a filter that trusts R alone gets overconfident (NEES ≫ 3)
+// and weights a biased view as if it were exact.
+//
+// Model. View u's measurement of an object at p is
+//     z = p + H_u β_u + e,   e ~ N(0, R),   H_u = [ I₃  L ],  L Lᵀ = R (lower Cholesky factor),
+// with β_u = (t_u, δ_u) ∈ R⁶ constant over a scene:
+//   t_u  a translation in the world frame (a GPS or extrinsic position error);
+//   δ_u  an offset in the view's own noise units (a small rotation of a camera or range sensor moves
+//        every measurement by about the same angle / the same pixels, which reaches the world through
+//        the same Jacobian that shapes R, so it grows with range exactly as R does).
+// Prior: t_u ~ N(0, diag(σ_x², σ_y², σ_z²)) and δ_u ~ N(0, α² I₃), independent across views
+// (RegistrationPrior; calibrate it with registration_calibration.hpp).
+//
+// Online estimation, per scene. The joint Gaussian N(β̂, Σ) over the offsets of every view seen so far
+// is learned only from what views disagree on: when views V = {u₁..u_k}, k ≥ 2, measure the same object
+// at the same step, the differences d_j = z_{u_j} − z_{u₁} (j = 2..k) do not depend on the unknown p:
+//     d = D G β_V + D e,   D = [−I I 0 …; −I 0 I …; …],  G = blockdiag(H_{u_j}),
+// a linear measurement of β with noise D diag(R) Dᵀ; a Kalman update on it is the exact posterior of β
+// with p marginalised under a flat prior (so the motion model never feeds back into β). An offset
+// shared by every view is not observable this way; it stays at its prior, and its uncertainty stays in
+// the fused covariance.
+//
+// Fusion. The measurements of one object at a step, corrected c_u = z_u − H_u β̂_u, carry the noise
+// e_u + H_u (β_u − β̂_u): covariance C = G Σ_VV Gᵀ + diag(R_u) (correlated across views through Σ).
+// Their combined measurement is the generalised least-squares mean
+//     A = Sᵀ C⁻¹ S,   x = A⁻¹ Sᵀ C⁻¹ c,   covariance A⁻¹,     S = [I₃; I₃; …],
+// which feeds the multi-view update like a single view. With Σ = 0 and β̂ = 0 it is the
+// information-weighted mean of the measurements, so the filter reduces to the plain update.
+// Learn from a step only after fusing it, so no measurement is used twice.
+//
+// Cost: state 6n for n views; a learning update is O((6n)² k) per object, a fusion O((3k)³).
+
+#include <map>
+#include <span>
+#include <string>
+
+#include <Eigen/Dense>
+
+#include "stgf/core/gaussian.hpp"
+#include "stgf/core/records.hpp"
+
+namespace stgf {
+
+struct RegistrationPrior {
+  Vector3d translation_sigma = Vector3d::Zero();  // σ of t along the world axes (m)
+  double noise_ratio = 0.0;                       // α: σ of δ in units of the view's own noise
+  bool is_zero() const { return translation_sigma.isZero() && noise_ratio == 0.0; }
+};
+
+class ViewRegistration {
+ public:
+  static constexpr int kOffsetSize = 6;  // (t, δ)
+
+  // Throws std::invalid_argument when a sigma is negative or not finite.
+  explicit ViewRegistration(const RegistrationPrior& prior);
+
+  // Combines the measurements of ONE object at the current step (each view at most once) into one
+  // equivalent measurement, corrected for the estimated offsets and uncertain by what is left of them.
+  // Views not seen before count with their prior.
+  Gaussian3 combine(std::span<const Measurement* const> measurements_of_object) const;
+
+  // Learns from every measurement of a step (all objects); adds views seen for the first time.
+  void learn(std::span<const Measurement* const> step);
+
+  // The estimated offset of `view` at position-independent part t and noise-unit part δ, and their
+  // covariance (prior for an unknown view).
+  Eigen::Matrix<double, 6, 1> offset(std::string_view view) const;
+  Eigen::Matrix<double, 6, 6> offset_covariance(std::string_view view) const;
+  std::size_t view_count() const { return views_.size(); }
+  // False for a zero prior: every offset is exactly zero and nothing needs correcting.
+  bool active() const { return !prior_.is_zero(); }
+
+ private:
+  int index_of(std::string_view view) const;  // −1 when unknown
+  int add_view(std::string_view view);
+
+  RegistrationPrior prior_;
+  Eigen::Matrix<double, 6, 6> prior_covariance_;
+  std::map<std::string, int, std::less<>> views_;
+  Eigen::VectorXd offsets_;      // β̂, 6 per view in order of first appearance
+  Eigen::MatrixXd covariance_;   // Σ
+};
+
+}  // namespace stgf
