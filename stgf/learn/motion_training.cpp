@@ -280,4 +280,12 @@ TrainingReport train_motion_model(const std::vector<TrainingGraph>& train, const
   return report;
 }
 
+void save_recalibrated_model(const MotionModel& model, const std::string& path, const nlohmann::json& metadata) {
+  const MotionModel::Impl& impl = model.impl();
+  torch::optim::Adam optimizer(impl.network->parameters(),
+                               torch::optim::AdamOptions(metadata.value("learning_rate", 1e-3)));
+  const bool has_optimizer = load_optimizer_state(path, optimizer);
+  impl.save(path, metadata, has_optimizer ? &optimizer : nullptr);
+}
+
 }  // namespace stgf

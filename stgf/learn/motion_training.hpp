@@ -65,6 +65,10 @@ TrainingReport train_motion_model(const std::vector<TrainingGraph>& train, const
                                   const MotionTrainingOptions& options, const std::string& model_path,
                                   const std::function<void(const TrainingProgress&)>& progress = {});
 
+// Rewrites `path`, a model file from train_motion_model, with `model`'s Q and `metadata`, keeping the
+// file's optimizer state (so --resume continues where training stopped).
+void save_recalibrated_model(const MotionModel& model, const std::string& path, const nlohmann::json& metadata);
+
 // Normalisation measured on training graphs: typical speed (RMS of history velocities, at least
 // 0.1 m/s), median step period, and a fixed 5 m length scale.
 MotionNormalisation measure_normalisation(const std::vector<TrainingGraph>& graphs);

@@ -55,6 +55,7 @@ std::vector<Gaussian3> SpatiotemporalGraphFilter::step(double time,
   std::vector<Gaussian3> estimates;
   estimates.reserve(measurements.size());
   const auto history_limit = static_cast<std::size_t>(predictor_.history_positions());
+  last_predictions_.assign(measurements.size(), std::nullopt);
   for (std::size_t row = 0; row < measurements.size(); ++row) {
     const Measurement& measurement = *measurements[row];
     Track& track = tracks_[measurement.view][measurement.object];
@@ -69,6 +70,7 @@ std::vector<Gaussian3> SpatiotemporalGraphFilter::step(double time,
         covariance += spread * spread * Matrix3d::Identity();
       }
       prior = Gaussian3::from_covariance(predicted[index->first][index->second], covariance);
+      last_predictions_[row] = Prediction{prior->mean(), last.estimate.covariance(), dt, track.size()};
     } else {
       prior = Gaussian3::from_covariance(Vector3d::Zero(), kDiffuseVariance * Matrix3d::Identity());
     }

@@ -23,6 +23,7 @@
 
 #include <deque>
 #include <map>
+#include <optional>
 #include <string>
 
 #include "stgf/core/view_registration.hpp"
@@ -39,6 +40,16 @@ class SpatiotemporalGraphFilter final : public Localizer {
 
   std::vector<Gaussian3> step(double time, std::span<const Measurement* const> measurements) override;
 
+  // What the last step predicted for each of its rows, before the update: nullopt for a row whose
+  // view had no track of the object (diffuse start). For calibrating Q in the filter's own regime.
+  struct Prediction {
+    Vector3d mean;              // Φ's x
+    Matrix3d last_covariance;   // P̂_last of the track
+    double dt = 0.0;            // prediction interval
+    std::size_t track_positions = 0;
+  };
+  const std::vector<std::optional<Prediction>>& last_predictions() const { return last_predictions_; }
+
  private:
   struct TrackPoint {
     double time;
@@ -48,6 +59,7 @@ class SpatiotemporalGraphFilter final : public Localizer {
 
   const MotionPredictor& predictor_;
   ViewRegistration registration_;
+  std::vector<std::optional<Prediction>> last_predictions_;
   // view → object → track
   std::map<std::string, std::map<std::string, Track, std::less<>>, std::less<>> tracks_;
 };

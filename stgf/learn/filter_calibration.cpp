@@ -1,0 +1,87 @@
+#include "stgf/learn/filter_calibration.hpp"
+
+#include <algorithm>
+#include <stdexcept>
+
+#include "stgf/core/steps.hpp"
+#include "stgf/learn/spatiotemporal_graph_filter.hpp"
+
+namespace stgf {
+namespace {
+
+constexpr double kProcessNoiseFloor = 1e-6;  // m², as in training
+
+struct Residual {
+  Vector3d error;           // y − x
+  Matrix3d last_covariance;
+  double dt;
+};
+
+std::vector<Residual> filter_residuals(const MotionModel& model, const RegistrationPrior& registration,
+                                       std::span<const Measurement> measurements, std::span<const Vector3d> truth) {
+  std::vector<Residual> residuals;
+  std::vector<const Measurement*> step_measurements;
+  for (const Scene& scene : group_into_scenes(measurements)) {
+    SpatiotemporalGraphFilter filter(model, registration);
+    for (const Step& step : scene.steps) {
+      step_measurements.clear();
+      for (std::size_t row : step.rows) step_measurements.push_back(&measurements[row]);
+      filter.step(step.time, step_measurements);
+      const auto& predictions = filter.last_predictions();
+      for (std::size_t k = 0; k < step.rows.size(); ++k) {
+        const auto& prediction = predictions[k];
+        if (!prediction || prediction->track_positions < 2 || !(prediction->dt > 0.0)) continue;
+        residuals.push_back({truth[step.rows[k]] - prediction->mean, prediction->last_covariance, prediction->dt});
+      }
+    }
+  }
+  return residuals;
+}
+
+}  // namespace
+
+FilterCalibration calibrate_filter_process_noise(MotionModel& model, const RegistrationPrior& registration,
+                                                 std::span<const Measurement> measurements,
+                                                 std::span<const Vector3d> truth, int rounds) {
+  if (rounds < 1) throw std::invalid_argument("calibrate_filter_process_noise: rounds must be at least 1");
+  if (measurements.size() != truth.size()) {
+    throw std::invalid_argument("calibrate_filter_process_noise: one truth position per measurement");
+  }
+  FilterCalibration calibration;
+  for (int round = 0; round < rounds; ++round) {
+    const std::vector<Residual> residuals = filter_residuals(model, registration, measurements, truth);
+    if (residuals.empty()) throw std::invalid_argument("no prediction from a track of two or more positions to calibrate Q on");
+    if (round == 0) {
+      std::vector<double> intervals;
+      intervals.reserve(residuals.size());
+      for (const Residual& residual : residuals) intervals.push_back(residual.dt);
+      std::nth_element(intervals.begin(), intervals.begin() + static_cast<std::ptrdiff_t>(intervals.size() / 2),
+                       intervals.end());
+      calibration.period = intervals[intervals.size() / 2];
+      calibration.predictions = residuals.size();
+    }
+    FilterCalibrationRound report;
+    Matrix3d moment = Matrix3d::Zero();
+    for (const Residual& residual : residuals) {
+      const Matrix3d covariance = residual.last_covariance + model.process_noise(residual.dt);
+      report.prior_nees += residual.error.dot(covariance.ldlt().solve(residual.error));
+      report.prior_error += residual.error.norm();
+      const double scale = (calibration.period / residual.dt) * (calibration.period / residual.dt);
+      moment += scale * (residual.error * residual.error.transpose() - residual.last_covariance);
+    }
+    const auto n = static_cast<double>(residuals.size());
+    report.prior_nees /= n;
+    report.prior_error /= n;
+    const Eigen::SelfAdjointEigenSolver<Matrix3d> eigen(symmetrised(moment / n));
+    const Vector3d floored = eigen.eigenvalues().cwiseMax(kProcessNoiseFloor);
+    const Matrix3d measured = eigen.eigenvectors() * floored.asDiagonal() * eigen.eigenvectors().transpose();
+    // Damped: Q moves half way, since the residuals it is measured from respond to Q.
+    const Matrix3d previous = round == 0 ? measured : model.process_noise(calibration.period);
+    report.process_noise = symmetrised(0.5 * (previous + measured));
+    model.set_process_noise(report.process_noise, calibration.period);
+    calibration.rounds.push_back(report);
+  }
+  return calibration;
+}
+
+}  // namespace stgf
