@@ -7,14 +7,11 @@
 #include <spdlog/spdlog.h>
 
 #include "commands.hpp"
+#include "method_runner.hpp"
 #include "stgf/core/steps.hpp"
 #include "stgf/io/estimate_file.hpp"
 #include "stgf/io/measurement_file.hpp"
 #include "stgf/io/method_config_file.hpp"
-#include "stgf/learn/learned_methods.hpp"
-#include "stgf/learn/registration_metadata.hpp"
-#include "stgf/learn/spatiotemporal_graph_filter.hpp"
-#include "stgf/methods/run_method.hpp"
 
 namespace stgf::cli {
 namespace {
@@ -30,36 +27,11 @@ struct RunOptions {
 void run(const RunOptions& options) {
   const auto start = std::chrono::steady_clock::now();
   const MethodConfig config = options.config.empty() ? MethodConfig{} : read_method_config(options.config);
-  const bool learned = options.method == "sttp" || options.method == "ours-l" || options.method == "ours";
-  if (learned && options.model.empty()) throw std::invalid_argument("--method " + options.method + " needs --model");
   std::optional<MotionModel> model;
-  if (learned) {
-    model = MotionModel::load(options.model);
-    const std::string wanted = options.method == "sttp" ? "raw" : "fused";
-    const std::string trained = model->metadata().value("input", "");
-    if (trained != wanted) {
-      throw std::invalid_argument(options.model + " was trained on " + (trained.empty() ? "unknown" : trained) +
-                                  " histories; --method " + options.method + " needs a model trained with --input " +
-                                  wanted);
-    }
-  }
-  RegistrationPrior registration;
-  if (options.method == "ours") {
-    bool missing = false;
-    registration = resolve_registration_prior(config.ours, model->metadata(), options.model, &missing);
-    if (missing) {
-      spdlog::warn("{} holds no registration calibration (trained before stgf calibrated it); views' offsets are "
-                   "taken as zero unless set under `ours:` in --config",
-                   options.model);
-    }
-  }
+  if (is_learned_method(options.method)) model = load_model_for(options.method, options.model);
   MeasurementFile measurements = read_measurements(options.measurements);
   const std::vector<Gaussian3> positions =
-      options.method == "ours"
-          ? run_localizer([&] { return std::make_unique<SpatiotemporalGraphFilter>(*model, registration); },
-                          measurements.rows)
-      : learned ? run_learned_method(options.method, *model, measurements.rows)
-                : run_method(options.method, config, measurements.rows);
+      run_named_method(options.method, config, model ? &*model : nullptr, options.model, measurements.rows);
   std::size_t steps = 0;
   const std::vector<Scene> scenes = group_into_scenes(measurements.rows);
   for (const Scene& scene : scenes) steps += scene.steps.size();
@@ -86,7 +58,7 @@ void add_run_command(CLI::App& app) {
       "run", "Run a localization method over a measurements file and write one estimate per measured row.");
   command->add_option("--method", options->method, "aom | wls | mmt | sttp | ours-l | ours")
       ->required()
-      ->check(CLI::IsMember({"aom", "wls", "mmt", "sttp", "ours-l", "ours"}));
+      ->check(CLI::IsMember(all_method_names()));
   command->add_option("--measurements", options->measurements, "measurements CSV (scene,t,view,object,x,y,z,cov_*)")
       ->required();
   command->add_option("--out", options->out, "estimates CSV to write")->required();

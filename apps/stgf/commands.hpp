@@ -10,5 +10,6 @@ void add_run_command(CLI::App& app);
 void add_eval_command(CLI::App& app);
 void add_dataset_command(CLI::App& app);
 void add_train_command(CLI::App& app);
+void add_reproduce_command(CLI::App& app);
 
 }  // namespace stgf::cli

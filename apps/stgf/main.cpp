@@ -26,6 +26,7 @@ int main(int argc, char** argv) {
   app.set_version_flag("--version", "stgf 0.1.0");
   stgf::cli::add_dataset_command(app);
   stgf::cli::add_train_command(app);
+  stgf::cli::add_reproduce_command(app);
   stgf::cli::add_run_command(app);
   stgf::cli::add_eval_command(app);
 

@@ -1,0 +1,340 @@
+// stgf reproduce [--benchmarks mpl,cad] [--out DIR] [--quick] [--seed S] [--epochs N] [--threads N]
+//
+// The paper's experiments end to end (DESIGN §2, §4, §5), for each benchmark:
+//   1. build the benchmark at DIR/benchmarks/NAME, or reuse it when it was built with the same recipe;
+//   2. train the models, or reuse them: DIR/models/NAME.pt (fused histories: ours-l, ours) and
+//      DIR/models/NAME-sttp.pt (one view's raw histories: sttp);
+//   3. run the six methods on the test split (DIR/estimates/NAME/METHOD.csv), and `ours` once more
+//      without its registration-error handling;
+//   4. score them from step 2 on (the same rows for every method);
+// then write DIR/results.md (Table I, the paper comparison, registration on/off, DE by number of
+// views, figures, timings), DIR/results.json, and the figures in DIR/figures (SVG and PNG by gnuplot).
+
+#include <chrono>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <sstream>
+#include <stdexcept>
+
+#include <fmt/format.h>
+#include <spdlog/spdlog.h>
+
+#include "commands.hpp"
+#include "figures.hpp"
+#include "method_runner.hpp"
+#include "reproduce_report.hpp"
+#include "training_pipeline.hpp"
+#include "stgf/core/steps.hpp"
+#include "stgf/datasets/benchmark_folder.hpp"
+#include "stgf/datasets/cad_benchmark.hpp"
+#include "stgf/datasets/mpl_benchmark.hpp"
+#include "stgf/io/estimate_file.hpp"
+#include "stgf/io/evaluation_report.hpp"
+#include "stgf/io/measurement_file.hpp"
+#include "stgf/io/output_file.hpp"
+#include "stgf/io/truth_file.hpp"
+
+namespace stgf::cli {
+namespace {
+
+namespace fs = std::filesystem;
+
+// Bump when training changes in a way that makes older reproduce models stale.
+constexpr int kTrainingRecipeVersion = 2;
+constexpr int kFromStep = 2;
+const char* const kRegistrationOff = "ours-registration-off";
+
+struct ReproduceOptions {
+  std::vector<std::string> benchmarks = {"mpl", "cad"};
+  std::string out = "reproduce";
+  bool quick = false;
+  std::uint64_t seed = 1;
+  int epochs = 0;   // 0: 8, or 3 with --quick
+  int threads = 0;  // LibTorch threads for training (0: all cores)
+  std::string mpl_source = STGF_DATA_DIR "/pets2009_s2l1";
+  std::string kitti_source = STGF_KITTI_DIR;
+};
+
+class Stopwatch {
+ public:
+  double seconds() const { return std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count(); }
+
+ private:
+  std::chrono::steady_clock::time_point start_ = std::chrono::steady_clock::now();
+};
+
+std::string read_text(const fs::path& path) {
+  std::ifstream file(path);
+  std::ostringstream text;
+  text << file.rdbuf();
+  return text.str();
+}
+
+// Whether `stamp` holds exactly `recipe` (written when the thing it describes was made).
+bool stamp_matches(const fs::path& stamp, const nlohmann::json& recipe) {
+  if (!fs::exists(stamp)) return false;
+  const nlohmann::json stored = nlohmann::json::parse(read_text(stamp), nullptr, false);
+  return !stored.is_discarded() && stored == recipe;
+}
+
+int epochs_of(const ReproduceOptions& options) { return options.epochs > 0 ? options.epochs : options.quick ? 3 : 8; }
+
+nlohmann::json benchmark_recipe(const std::string& name, const ReproduceOptions& options) {
+  return {{"benchmark", name},
+          {"seed", options.seed},
+          {"quick", options.quick},
+          {"source", name == "mpl" ? options.mpl_source : options.kitti_source}};
+}
+
+Benchmark make_benchmark(const std::string& name, const ReproduceOptions& options) {
+  if (name == "mpl") {
+    MplOptions mpl;
+    mpl.seed = options.seed;
+    mpl.source_directory = options.mpl_source;
+    if (options.quick) {
+      mpl.train_instances = 300;
+      mpl.val_instances = 150;
+      mpl.test_instances = 300;
+    }
+    return make_mpl_benchmark(mpl);
+  }
+  CadOptions cad;
+  cad.seed = options.seed;
+  cad.source_directory = options.kitti_source;
+  if (options.quick) {
+    cad.train_instances = 300;
+    cad.val_instances = 100;
+    cad.test_instances = 300;
+  }
+  return make_cad_benchmark(cad);
+}
+
+struct Progress {
+  std::string benchmark;
+  int stage = 0;
+  static constexpr int kStages = 5;
+  void next(const std::string& what) {
+    ++stage;
+    spdlog::info("[{} {}/{}] {}", benchmark, stage, kStages, what);
+  }
+};
+
+void ensure_benchmark(const std::string& name, const fs::path& folder, const ReproduceOptions& options,
+                      Progress& progress, std::map<std::string, double>& timings) {
+  const nlohmann::json recipe = benchmark_recipe(name, options);
+  const fs::path stamp = folder / "reproduce-recipe.json";
+  if (fs::exists(folder / "benchmark.json") && stamp_matches(stamp, recipe)) {
+    progress.next("benchmark: reusing " + folder.string());
+    return;
+  }
+  progress.next("benchmark: building " + folder.string());
+  const Stopwatch watch;
+  write_benchmark_folder(folder.string(), make_benchmark(name, options));
+  write_text_file(stamp.string(), recipe.dump(2) + "\n");
+  timings["build benchmark"] = watch.seconds();
+}
+
+void ensure_model(const std::string& name, const fs::path& benchmark, const fs::path& model, const std::string& input,
+                  const ReproduceOptions& options, std::map<std::string, double>& timings) {
+  const nlohmann::json recipe = {{"benchmark", benchmark_recipe(name, options)},
+                                 {"input", input},
+                                 {"epochs", epochs_of(options)},
+                                 {"seed", options.seed},
+                                 {"training_recipe_version", kTrainingRecipeVersion}};
+  const fs::path stamp = fs::path(model.string() + ".recipe.json");
+  if (fs::exists(model) && stamp_matches(stamp, recipe)) {
+    spdlog::info("  model: reusing {}", model.string());
+    return;
+  }
+  spdlog::info("  model: training {} on {} histories ({} epochs)", model.string(), input, epochs_of(options));
+  const Stopwatch watch;
+  fs::create_directories(model.parent_path());
+  ModelTraining training;
+  training.benchmark = benchmark.string();
+  training.out = model.string();
+  training.input = input;
+  training.training.epochs = epochs_of(options);
+  training.training.seed = options.seed;
+  training.training.threads = options.threads;
+  train_model(training);
+  write_text_file(stamp.string(), recipe.dump(2) + "\n");
+  timings["train " + input + " model"] = watch.seconds();
+}
+
+// Runs `method` over the test measurements and writes its estimates file; returns the file.
+fs::path run_and_write(const std::string& method, const std::string& label, const MethodConfig& config,
+                       const MotionModel* model, const std::string& model_path, const MeasurementFile& measurements,
+                       const fs::path& folder, std::map<std::string, double>& timings) {
+  const Stopwatch watch;
+  const std::vector<Gaussian3> positions = run_named_method(method, config, model, model_path, measurements.rows);
+  std::vector<Estimate> estimates;
+  estimates.reserve(positions.size());
+  for (std::size_t k = 0; k < positions.size(); ++k) {
+    const Measurement& row = measurements.rows[k];
+    estimates.push_back(Estimate{row.scene, row.time, row.view, row.object, positions[k]});
+  }
+  const fs::path file = folder / (label + ".csv");
+  write_estimates(file.string(), estimates, label);
+  timings["run " + label] = watch.seconds();
+  spdlog::info("  {}: {} estimates in {:.1f} s", label, estimates.size(), timings["run " + label]);
+  return file;
+}
+
+// The test scene with the most measurements (ties: the first name), and in it the view with the most.
+std::pair<std::string, std::string> busiest_scene_and_view(const MeasurementFile& measurements) {
+  std::map<std::string, std::size_t> per_scene;
+  for (const Measurement& row : measurements.rows) ++per_scene[row.scene];
+  std::string scene;
+  std::size_t most = 0;
+  for (const auto& [name, count] : per_scene) {
+    if (count > most) {
+      most = count;
+      scene = name;
+    }
+  }
+  std::map<std::string, std::size_t> per_view;
+  for (const Measurement& row : measurements.rows) {
+    if (row.scene == scene) ++per_view[row.view];
+  }
+  std::string view;
+  most = 0;
+  for (const auto& [name, count] : per_view) {
+    if (count > most) {
+      most = count;
+      view = name;
+    }
+  }
+  return {scene, view};
+}
+
+void draw_figures(const std::string& name, const Evaluation& evaluation, const TruthFile& truth,
+                  const MeasurementFile& measurements, const std::map<std::string, fs::path>& estimate_files,
+                  const fs::path& figures, bool draw, std::vector<std::string>& drawn) {
+  Evaluation main_methods = evaluation;
+  std::erase_if(main_methods.methods, [](const MethodScore& score) { return score.method == kRegistrationOff; });
+  const std::string views_stem = "views-" + name;
+  write_views_curve(main_methods, figures.string(), views_stem,
+                    "DE against the number of views (" + name + " test split, from step 2)");
+
+  const auto [scene, view] = busiest_scene_and_view(measurements);
+  std::vector<TruthPoint> scene_truth;
+  for (const TruthPoint& point : truth.rows) {
+    if (point.scene == scene) scene_truth.push_back(point);
+  }
+  std::vector<MethodTrajectory> methods;
+  for (const std::string method : {"aom", "mmt", "ours-l", "ours"}) {
+    const EstimateFile file = read_estimates(estimate_files.at(method).string());
+    MethodTrajectory trajectory{method, {}};
+    for (const Estimate& estimate : file.rows) {
+      if (estimate.scene == scene && estimate.view == view) trajectory.estimates.push_back(estimate);
+    }
+    methods.push_back(std::move(trajectory));
+  }
+  const std::string trajectory_stem = "trajectories-" + name;
+  write_trajectories(scene_truth, methods, figures.string(), trajectory_stem,
+                     fmt::format("{} test scene {}, estimates held by {}", name, scene, view));
+  if (!draw) return;
+  for (const std::string& stem : {views_stem, trajectory_stem}) {
+    run_gnuplot(figures.string(), stem);
+    drawn.push_back(stem);
+  }
+}
+
+BenchmarkResult reproduce_benchmark(const std::string& name, const ReproduceOptions& options, bool draw) {
+  const fs::path out(options.out);
+  const fs::path folder = out / "benchmarks" / name;
+  BenchmarkResult result;
+  result.name = name;
+  Progress progress{name};
+  ensure_benchmark(name, folder, options, progress, result.timings);
+
+  progress.next("models");
+  const fs::path fused_model = out / "models" / (name + ".pt");
+  const fs::path raw_model = out / "models" / (name + "-sttp.pt");
+  ensure_model(name, folder, fused_model, "fused", options, result.timings);
+  ensure_model(name, folder, raw_model, "raw", options, result.timings);
+
+  progress.next("running the six methods on the test split");
+  const MeasurementFile measurements = read_measurements((folder / "test" / "measurements.csv").string());
+  const MotionModel fused = load_model_for("ours", fused_model.string());
+  const MotionModel raw = load_model_for("sttp", raw_model.string());
+  const fs::path estimates = out / "estimates" / name;
+  fs::create_directories(estimates);
+  std::map<std::string, fs::path> estimate_files;
+  const MethodConfig config;
+  for (const std::string& method : all_method_names()) {
+    const MotionModel* model = method == "sttp" ? &raw : is_learned_method(method) ? &fused : nullptr;
+    const fs::path& model_path = method == "sttp" ? raw_model : fused_model;
+    estimate_files[method] =
+        run_and_write(method, method, config, model, model_path.string(), measurements, estimates, result.timings);
+  }
+  MethodConfig without_registration;
+  without_registration.ours.registration = false;
+  estimate_files[kRegistrationOff] = run_and_write("ours", kRegistrationOff, without_registration, &fused,
+                                                   fused_model.string(), measurements, estimates, result.timings);
+
+  progress.next(fmt::format("scoring from step {} on", kFromStep));
+  const TruthFile truth = read_truth((folder / "test" / "truth.csv").string());
+  std::vector<EstimateFile> files;
+  for (const std::string& method : all_method_names()) files.push_back(read_estimates(estimate_files.at(method).string()));
+  files.push_back(read_estimates(estimate_files.at(kRegistrationOff).string()));
+  result.evaluation = evaluate(truth, files, &measurements, kFromStep);
+  result.registration = fused.metadata().value("registration", nlohmann::json::object());
+
+  progress.next(draw ? "figures" : "figures: gnuplot not found, writing data and scripts only");
+  draw_figures(name, result.evaluation, truth, measurements, estimate_files, out / "figures", draw, result.figures);
+  return result;
+}
+
+void reproduce(const ReproduceOptions& options) {
+  const Stopwatch watch;
+  for (const std::string& name : options.benchmarks) {
+    if (name != "mpl" && name != "cad") throw std::invalid_argument("--benchmarks: unknown benchmark '" + name + "' (known: mpl, cad)");
+  }
+  const bool draw = gnuplot_available();
+  if (!draw) spdlog::warn("gnuplot not found: figures get their data and scripts, not their images (apt-get install gnuplot-nox)");
+  std::vector<BenchmarkResult> results;
+  for (const std::string& name : options.benchmarks) results.push_back(reproduce_benchmark(name, options, draw));
+
+  ReproduceSummary summary;
+  summary.command = fmt::format("stgf reproduce --benchmarks {} --out {} --seed {}{}", fmt::join(options.benchmarks, ","),
+                                options.out, options.seed, options.quick ? " --quick" : "");
+  summary.seed = options.seed;
+  summary.quick = options.quick;
+  summary.epochs = epochs_of(options);
+  summary.from_step = kFromStep;
+  summary.registration_off_label = kRegistrationOff;
+  const fs::path out(options.out);
+  write_text_file((out / "results.md").string(), results_markdown(summary, results));
+  write_text_file((out / "results.json").string(), results_json(summary, results).dump(2) + "\n");
+  std::fputs(table_one_markdown(results, kRegistrationOff).c_str(), stdout);
+  spdlog::info("results in {} (results.md, results.json, figures/) after {:.0f} s", options.out, watch.seconds());
+}
+
+}  // namespace
+
+void add_reproduce_command(CLI::App& app) {
+  auto options = std::make_shared<ReproduceOptions>();
+  CLI::App* command = app.add_subcommand(
+      "reproduce",
+      "The paper's experiments end to end: build the benchmarks, train the models, run all six methods on "
+      "the test splits, and write Table I, the number-of-views curve and trajectory plots.");
+  command->add_option("--benchmarks", options->benchmarks, "comma-separated: mpl (built-in PETS 2009 data), cad (KITTI)")
+      ->delimiter(',')
+      ->capture_default_str();
+  command->add_option("--out", options->out, "output folder (benchmarks, models and estimates in it are reused)")
+      ->capture_default_str();
+  command->add_flag("--quick", options->quick,
+                    "smaller benchmarks (mpl 300/150/300, cad 300/100/300 instances) and 3 epochs: minutes, not tens of minutes");
+  command->add_option("--seed", options->seed, "seed of the benchmarks and the training")->capture_default_str();
+  command->add_option("--epochs", options->epochs, "training epochs (default 8, or 3 with --quick)")
+      ->check(CLI::PositiveNumber);
+  command->add_option("--threads", options->threads, "LibTorch threads for training (0: all cores)")->capture_default_str();
+  command->add_option("--mpl-source", options->mpl_source, "PETS 2009 S2L1 folder")->capture_default_str();
+  command->add_option("--kitti-source", options->kitti_source, "KITTI tracking training folder (for cad)")
+      ->capture_default_str();
+  command->callback([options] { reproduce(*options); });
+}
+
+}  // namespace stgf::cli

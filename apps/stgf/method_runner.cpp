@@ -1,0 +1,51 @@
+#include "method_runner.hpp"
+
+#include <stdexcept>
+
+#include <spdlog/spdlog.h>
+
+#include "stgf/learn/learned_methods.hpp"
+#include "stgf/learn/registration_metadata.hpp"
+#include "stgf/learn/spatiotemporal_graph_filter.hpp"
+#include "stgf/methods/run_method.hpp"
+
+namespace stgf::cli {
+
+const std::vector<std::string>& all_method_names() {
+  static const std::vector<std::string> names = {"aom", "wls", "mmt", "sttp", "ours-l", "ours"};
+  return names;
+}
+
+bool is_learned_method(const std::string& method) {
+  return method == "sttp" || method == "ours-l" || method == "ours";
+}
+
+MotionModel load_model_for(const std::string& method, const std::string& model_path) {
+  if (model_path.empty()) throw std::invalid_argument("--method " + method + " needs --model");
+  MotionModel model = MotionModel::load(model_path);
+  const std::string wanted = method == "sttp" ? "raw" : "fused";
+  const std::string trained = model.metadata().value("input", "");
+  if (trained != wanted) {
+    throw std::invalid_argument(model_path + " was trained on " + (trained.empty() ? "unknown" : trained) +
+                                " histories; --method " + method + " needs a model trained with --input " + wanted);
+  }
+  return model;
+}
+
+std::vector<Gaussian3> run_named_method(const std::string& method, const MethodConfig& config,
+                                        const MotionModel* model, const std::string& model_path,
+                                        std::span<const Measurement> rows) {
+  if (!is_learned_method(method)) return run_method(method, config, rows);
+  if (model == nullptr) throw std::invalid_argument("--method " + method + " needs --model");
+  if (method != "ours") return run_learned_method(method, *model, rows);
+  bool missing = false;
+  const RegistrationPrior registration = resolve_registration_prior(config.ours, model->metadata(), model_path, &missing);
+  if (missing) {
+    spdlog::warn("{} holds no registration calibration (trained before stgf calibrated it); the views' offsets are "
+                 "taken as zero unless set under `ours:` in --config",
+                 model_path);
+  }
+  return run_localizer([&] { return std::make_unique<SpatiotemporalGraphFilter>(*model, registration); }, rows);
+}
+
+}  // namespace stgf::cli

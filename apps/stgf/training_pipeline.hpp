@@ -1,0 +1,25 @@
+#pragma once
+// Training a model for the learned methods (stgf train, stgf reproduce):
+//   1. read the benchmark's train/ and val/ splits (measurements and truth);
+//   2. fused input: calibrate the views' registration prior on val (core/registration_calibration.hpp);
+//   3. train Φ (learn/motion_training.hpp), keeping the best epoch on val, Q calibrated on Φ's residuals;
+//   4. fused input: calibrate Q again inside the filter on val (learn/filter_calibration.hpp).
+// Progress goes to the log (and a live line on a terminal).
+
+#include <string>
+
+#include "stgf/learn/motion_training.hpp"
+
+namespace stgf::cli {
+
+struct ModelTraining {
+  std::string benchmark;               // folder with train/ and val/
+  std::string out;                     // model file to write
+  std::string input = "fused";         // raw (sttp) | fused (ours-l, ours)
+  std::string history_noise = "auto";  // observed | matched | auto (matched for fused)
+  MotionTrainingOptions training;
+};
+
+void train_model(ModelTraining options);
+
+}  // namespace stgf::cli

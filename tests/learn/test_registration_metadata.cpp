@@ -1,0 +1,166 @@
+// The registration prior in a model file's metadata (learn/registration_metadata.hpp): round trip,
+// absent, malformed; and the prior `ours` runs with once the config's settings are applied.
+
+#include "stgf/learn/registration_metadata.hpp"
+
+#include <gtest/gtest.h>
+
+#include "support/input_errors.hpp"
+
+namespace stgf {
+namespace {
+
+using testing::expect_input_error;
+
+RegistrationPrior calibrated_prior() {
+  RegistrationPrior prior;
+  prior.translation_sigma = Vector3d(0.3, 0.2, 0.05);
+  prior.noise_ratio = 0.7;
+  return prior;
+}
+
+nlohmann::json metadata_with(const RegistrationPrior& prior) {
+  return {{"trained_on", "mpl"}, {"registration", registration_prior_to_json(prior)}};
+}
+
+TEST(RegistrationMetadata, RoundTrip) {
+  const nlohmann::json metadata = metadata_with(calibrated_prior());
+  // Through text, as the model file stores it.
+  const nlohmann::json reread = nlohmann::json::parse(metadata.dump());
+  const std::optional<RegistrationPrior> prior = registration_prior_from_metadata(reread, "m.pt");
+  ASSERT_TRUE(prior.has_value());
+  EXPECT_EQ(prior->translation_sigma, calibrated_prior().translation_sigma);
+  EXPECT_EQ(prior->noise_ratio, calibrated_prior().noise_ratio);
+  EXPECT_EQ(reread.at("registration").at("translation_sigma_m").size(), 3u);
+}
+
+TEST(RegistrationMetadata, MissingCalibrationIsNullopt) {
+  EXPECT_FALSE(registration_prior_from_metadata(nlohmann::json::object(), "m.pt").has_value());
+  EXPECT_FALSE(registration_prior_from_metadata({{"trained_on", "mpl"}}, "m.pt").has_value());
+  EXPECT_FALSE(registration_prior_from_metadata(nlohmann::json(), "m.pt").has_value());  // no metadata at all
+}
+
+TEST(RegistrationMetadata, MalformedCalibrationNamesTheFile) {
+  const nlohmann::json good = registration_prior_to_json(calibrated_prior());
+  std::vector<nlohmann::json> malformed;
+  malformed.push_back(5);
+  malformed.push_back(nlohmann::json::object());
+  {
+    nlohmann::json entry = good;
+    entry["translation_sigma_m"] = {0.3, 0.2};
+    malformed.push_back(entry);
+  }
+  {
+    nlohmann::json entry = good;
+    entry["translation_sigma_m"] = {0.3, -0.2, 0.1};
+    malformed.push_back(entry);
+  }
+  {
+    nlohmann::json entry = good;
+    entry["translation_sigma_m"] = {0.3, "wide", 0.1};
+    malformed.push_back(entry);
+  }
+  {
+    nlohmann::json entry = good;
+    entry["translation_sigma_m"] = 0.3;
+    malformed.push_back(entry);
+  }
+  {
+    nlohmann::json entry = good;
+    entry["noise_ratio"] = -1.0;
+    malformed.push_back(entry);
+  }
+  {
+    nlohmann::json entry = good;
+    entry["noise_ratio"] = "0.5";
+    malformed.push_back(entry);
+  }
+  {
+    nlohmann::json entry = good;
+    entry.erase("noise_ratio");
+    malformed.push_back(entry);
+  }
+  for (const nlohmann::json& entry : malformed) {
+    const nlohmann::json metadata = {{"registration", entry}};
+    const std::string message =
+        expect_input_error([&] { registration_prior_from_metadata(metadata, "models/m.pt"); }, "models/m.pt", 0);
+    EXPECT_NE(message.find("registration"), std::string::npos) << entry.dump();
+  }
+}
+
+TEST(RegistrationMetadata, RegistrationOffGivesTheZeroPrior) {
+  OursSettings settings;
+  settings.registration = false;
+  settings.translation_sigma = Vector3d::Constant(1.0);
+  settings.noise_ratio = 2.0;
+  bool missing = true;
+  const RegistrationPrior prior = resolve_registration_prior(settings, metadata_with(calibrated_prior()), "m.pt", &missing);
+  EXPECT_TRUE(prior.is_zero());
+  EXPECT_FALSE(missing);
+}
+
+TEST(RegistrationMetadata, CalibrationIsUsedAndOverridesApply) {
+  const nlohmann::json metadata = metadata_with(calibrated_prior());
+  bool missing = true;
+  {
+    const RegistrationPrior prior = resolve_registration_prior(OursSettings{}, metadata, "m.pt", &missing);
+    EXPECT_EQ(prior.translation_sigma, calibrated_prior().translation_sigma);
+    EXPECT_EQ(prior.noise_ratio, calibrated_prior().noise_ratio);
+    EXPECT_FALSE(missing);
+  }
+  {
+    OursSettings settings;
+    settings.translation_sigma = Vector3d(1.0, 2.0, 3.0);
+    missing = true;
+    const RegistrationPrior prior = resolve_registration_prior(settings, metadata, "m.pt", &missing);
+    EXPECT_EQ(prior.translation_sigma, Vector3d(1.0, 2.0, 3.0));
+    EXPECT_EQ(prior.noise_ratio, calibrated_prior().noise_ratio);
+    EXPECT_FALSE(missing);
+  }
+  {
+    OursSettings settings;
+    settings.noise_ratio = 0.0;
+    missing = true;
+    const RegistrationPrior prior = resolve_registration_prior(settings, metadata, "m.pt", &missing);
+    EXPECT_EQ(prior.translation_sigma, calibrated_prior().translation_sigma);
+    EXPECT_EQ(prior.noise_ratio, 0.0);
+    EXPECT_FALSE(missing);
+  }
+}
+
+TEST(RegistrationMetadata, MissingWhenNeitherCalibratedNorFullySet) {
+  const nlohmann::json uncalibrated = {{"trained_on", "mpl"}};
+  bool missing = false;
+  {
+    const RegistrationPrior prior = resolve_registration_prior(OursSettings{}, uncalibrated, "m.pt", &missing);
+    EXPECT_TRUE(prior.is_zero());
+    EXPECT_TRUE(missing);
+  }
+  {
+    OursSettings settings;
+    settings.translation_sigma = Vector3d(0.5, 0.5, 0.1);
+    missing = false;
+    const RegistrationPrior prior = resolve_registration_prior(settings, uncalibrated, "m.pt", &missing);
+    EXPECT_EQ(prior.translation_sigma, Vector3d(0.5, 0.5, 0.1));
+    EXPECT_EQ(prior.noise_ratio, 0.0);
+    EXPECT_TRUE(missing);
+  }
+  {
+    OursSettings settings;
+    settings.translation_sigma = Vector3d(0.5, 0.5, 0.1);
+    settings.noise_ratio = 0.3;
+    missing = true;
+    const RegistrationPrior prior = resolve_registration_prior(settings, uncalibrated, "m.pt", &missing);
+    EXPECT_EQ(prior.translation_sigma, Vector3d(0.5, 0.5, 0.1));
+    EXPECT_EQ(prior.noise_ratio, 0.3);
+    EXPECT_FALSE(missing);
+  }
+  // `missing` is optional.
+  EXPECT_TRUE(resolve_registration_prior(OursSettings{}, uncalibrated, "m.pt").is_zero());
+  // A malformed calibration is an error, not a silent zero.
+  const nlohmann::json malformed = {{"registration", {{"noise_ratio", 1.0}}}};
+  expect_input_error([&] { resolve_registration_prior(OursSettings{}, malformed, "m.pt", &missing); }, "m.pt", 0);
+}
+
+}  // namespace
+}  // namespace stgf
