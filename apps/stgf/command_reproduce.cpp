@@ -52,6 +52,7 @@ struct ReproduceOptions {
   std::uint64_t seed = 1;
   int epochs = 0;   // 0: 8, or 3 with --quick
   int threads = 0;  // LibTorch threads for training (0: all cores)
+  std::vector<int> instances;  // train, val, test instances; empty: the benchmark's defaults (or --quick's)
   std::string mpl_source = STGF_DATA_DIR "/pets2009_s2l1";
   std::string kitti_source = STGF_KITTI_DIR;
 };
@@ -81,10 +82,12 @@ bool stamp_matches(const fs::path& stamp, const nlohmann::json& recipe) {
 int epochs_of(const ReproduceOptions& options) { return options.epochs > 0 ? options.epochs : options.quick ? 3 : 8; }
 
 nlohmann::json benchmark_recipe(const std::string& name, const ReproduceOptions& options) {
-  return {{"benchmark", name},
-          {"seed", options.seed},
-          {"quick", options.quick},
-          {"source", name == "mpl" ? options.mpl_source : options.kitti_source}};
+  nlohmann::json recipe = {{"benchmark", name},
+                           {"seed", options.seed},
+                           {"quick", options.quick},
+                           {"source", name == "mpl" ? options.mpl_source : options.kitti_source}};
+  if (!options.instances.empty()) recipe["instances"] = options.instances;
+  return recipe;
 }
 
 Benchmark make_benchmark(const std::string& name, const ReproduceOptions& options) {
@@ -97,6 +100,11 @@ Benchmark make_benchmark(const std::string& name, const ReproduceOptions& option
       mpl.val_instances = 150;
       mpl.test_instances = 300;
     }
+    if (!options.instances.empty()) {
+      mpl.train_instances = options.instances[0];
+      mpl.val_instances = options.instances[1];
+      mpl.test_instances = options.instances[2];
+    }
     return make_mpl_benchmark(mpl);
   }
   CadOptions cad;
@@ -106,6 +114,11 @@ Benchmark make_benchmark(const std::string& name, const ReproduceOptions& option
     cad.train_instances = 300;
     cad.val_instances = 100;
     cad.test_instances = 300;
+  }
+  if (!options.instances.empty()) {
+    cad.train_instances = options.instances[0];
+    cad.val_instances = options.instances[1];
+    cad.test_instances = options.instances[2];
   }
   return make_cad_benchmark(cad);
 }
@@ -292,6 +305,9 @@ void reproduce(const ReproduceOptions& options) {
   for (const std::string& name : options.benchmarks) {
     if (name != "mpl" && name != "cad") throw std::invalid_argument("--benchmarks: unknown benchmark '" + name + "' (known: mpl, cad)");
   }
+  if (!options.instances.empty() && options.instances.size() != 3) {
+    throw std::invalid_argument("--instances takes three numbers: train,val,test");
+  }
   const bool draw = gnuplot_available();
   if (!draw) spdlog::warn("gnuplot not found: figures get their data and scripts, not their images (apt-get install gnuplot-nox)");
   std::vector<BenchmarkResult> results;
@@ -328,6 +344,10 @@ void add_reproduce_command(CLI::App& app) {
   command->add_flag("--quick", options->quick,
                     "smaller benchmarks (mpl 300/150/300, cad 300/100/300 instances) and 3 epochs: minutes, not tens of minutes");
   command->add_option("--seed", options->seed, "seed of the benchmarks and the training")->capture_default_str();
+  command->add_option("--instances", options->instances,
+                      "instances per split as train,val,test (default: the benchmark's, or --quick's sizes)")
+      ->delimiter(',')
+      ->check(CLI::PositiveNumber);
   command->add_option("--epochs", options->epochs, "training epochs (default 8, or 3 with --quick)")
       ->check(CLI::PositiveNumber);
   command->add_option("--threads", options->threads, "LibTorch threads for training (0: all cores)")->capture_default_str();

@@ -1,7 +1,8 @@
 #pragma once
 // Training a model for the learned methods (stgf train, stgf reproduce):
 //   1. read the benchmark's train/ and val/ splits (measurements and truth);
-//   2. fused input: calibrate the views' registration prior on val (core/registration_calibration.hpp);
+//   2. calibrate the views' registration prior on val (core/registration_calibration.hpp), stored in
+//      the model for `ours`;
 //   3. train Φ (learn/motion_training.hpp), keeping the best epoch on val, Q calibrated on Φ's residuals;
 //   4. fused input: calibrate Q again inside the filter on val (learn/filter_calibration.hpp).
 // Progress goes to the log (and a live line on a terminal).

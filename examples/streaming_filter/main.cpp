@@ -14,6 +14,7 @@
 #include <random>
 
 #include "stgf/learn/motion_model.hpp"
+#include "stgf/learn/registration_metadata.hpp"
 #include "stgf/learn/spatiotemporal_graph_filter.hpp"
 
 int main(int argc, char** argv) {
@@ -22,13 +23,20 @@ int main(int argc, char** argv) {
   using stgf::Vector3d;
 
   // The motion model: Φ from a model file, or constant velocity (Q = 0.5 m²/s² · Δt²).
+  // The views' registration error (offsets their R does not state, such as a camera's calibration
+  // error): a model file carries the prior calibrated at training. The simulated cameras below have
+  // none, so without a model the prior stays zero (every R trusted as it is); for real cameras set
+  // one, e.g. registration.translation_sigma = Vector3d(0.1, 0.1, 0.0) for 10 cm on the ground.
   std::unique_ptr<stgf::MotionPredictor> predictor;
+  stgf::RegistrationPrior registration;
   if (argc > 1) {
-    predictor = std::make_unique<stgf::MotionModel>(stgf::MotionModel::load(argv[1]));
+    auto model = std::make_unique<stgf::MotionModel>(stgf::MotionModel::load(argv[1]));
+    registration = stgf::registration_prior_from_metadata(model->metadata(), argv[1]).value_or(registration);
+    predictor = std::move(model);
   } else {
     predictor = std::make_unique<stgf::ConstantVelocityPredictor>(0.5, 1.4);
   }
-  stgf::SpatiotemporalGraphFilter filter(*predictor);  // one filter per scene
+  stgf::SpatiotemporalGraphFilter filter(*predictor, registration);  // one filter per scene
 
   // Each camera's noise: 5 cm along its good axis, 40 cm along its poor one.
   const Matrix3d east_noise = Vector3d(0.05 * 0.05, 0.4 * 0.4, 0.05 * 0.05).asDiagonal();

@@ -28,6 +28,7 @@ double positive_number(const std::string& path, const std::string& key, const YA
 }
 
 void read_mmt(const std::string& path, const YAML::Node& node, ConstantVelocityModel& model) {
+  if (node.IsNull()) return;  // a section whose keys are all commented out
   if (!node.IsMap()) throw InputError(path, line_of(node), "mmt must be a mapping of settings");
   for (const auto& entry : node) {
     const std::string key = entry.first.as<std::string>();
@@ -58,6 +59,7 @@ double non_negative_number(const std::string& path, const std::string& key, cons
 }
 
 void read_ours(const std::string& path, const YAML::Node& node, OursSettings& settings) {
+  if (node.IsNull()) return;  // a section whose keys are all commented out
   if (!node.IsMap()) throw InputError(path, line_of(node), "ours must be a mapping of settings");
   for (const auto& entry : node) {
     const std::string key = entry.first.as<std::string>();

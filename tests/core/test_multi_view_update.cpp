@@ -58,9 +58,11 @@ RC_GTEST_PROP(MultiViewUpdate, Theorem2OneViewPosteriorIsKalmanPosterior, ()) {
   const Gaussian3 view = Gaussian3::from_covariance(*gen_vector(), *gen_spd());
   const Gaussian3 fused = multi_view_update(prior, std::span(&view, 1));
   const KalmanUpdate kalman = kalman_update(prior.mean(), prior.covariance(), view.mean(), view.covariance());
-  RC_ASSERT(relative_difference(fused.covariance(), kalman.covariance) < 1e-12);
+  // 1e-10, not 1e-12: the reference's (I − K) P cancels when R ≪ P (rapidcheck found P eigenvalues
+  // of 54 against R = 1e-3 I give 5e-12); a wrong update is off by far more (a 1e-6 change fails).
+  RC_ASSERT(relative_difference(fused.covariance(), kalman.covariance) < 1e-10);
   const double spread = std::max({prior.mean().norm(), view.mean().norm(), 1.0});
-  RC_ASSERT((fused.mean() - kalman.mean).cwiseAbs().maxCoeff() / spread < 1e-12);
+  RC_ASSERT((fused.mean() - kalman.mean).cwiseAbs().maxCoeff() / spread < 1e-10);
 }
 
 RC_GTEST_PROP(MultiViewUpdate, GainsSumToIdentity, ()) {

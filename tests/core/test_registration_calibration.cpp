@@ -2,17 +2,16 @@
 // on data drawn from the model it recovers σ_t and α (including an axis with no offset), on data
 // without offsets it finds none, and mismatched inputs are rejected.
 
-#include "stgf/core/registration_calibration.hpp"
+#include <gtest/gtest.h>
 
+#include <Eigen/Cholesky>
 #include <cmath>
 #include <random>
 #include <stdexcept>
 #include <string>
 #include <vector>
 
-#include <Eigen/Cholesky>
-#include <gtest/gtest.h>
-
+#include "stgf/core/registration_calibration.hpp"
 #include "support/random_spd.hpp"
 
 namespace stgf {

@@ -4,8 +4,9 @@
 // corrected fusion beats the plain mean when a precise view is biased; the fused covariance is honest
 // (mean NEES 3 on data drawn from the model); the order of rows does not matter; bad priors throw.
 
-#include "stgf/core/view_registration.hpp"
+#include <gtest/gtest.h>
 
+#include <Eigen/Cholesky>
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -14,10 +15,8 @@
 #include <string>
 #include <vector>
 
-#include <Eigen/Cholesky>
-#include <gtest/gtest.h>
-
 #include "stgf/core/multi_view_update.hpp"
+#include "stgf/core/view_registration.hpp"
 #include "support/random_spd.hpp"
 
 namespace stgf {
@@ -28,8 +27,8 @@ using Vector6d = Eigen::Matrix<double, 6, 1>;
 using testing::random_spd;
 using testing::relative_difference;
 
-Measurement measurement(const std::string& view, const std::string& object, const Vector3d& z, const Matrix3d& r,
-                        double time = 0.0) {
+Measurement measurement(const std::string& view, const std::string& object, const Vector3d& z,
+                        const Matrix3d& r, double time = 0.0) {
   return Measurement{"s", time, view, object, Gaussian3::from_covariance(z, r), std::nullopt};
 }
 
@@ -81,8 +80,8 @@ TEST(ViewRegistration, ZeroPriorIsTheInformationWeightedMeanAndLearnsNothing) {
     rows.push_back(measurement("c", "q", uniform_point(rng, 10.0), random_spd(rng, 0.05, 50.0)));
     const std::vector<const Measurement*> of_o = {&rows[0], &rows[1], &rows[2]};
     const Gaussian3 before = registration.combine(of_o);
-    const Gaussian3 reference =
-        information_weighted_mean(std::vector<Gaussian3>{rows[0].position, rows[1].position, rows[2].position});
+    const Gaussian3 reference = information_weighted_mean(
+        std::vector<Gaussian3>{rows[0].position, rows[1].position, rows[2].position});
     EXPECT_LT(relative_difference(before.mean(), reference.mean()), 1e-12);
     EXPECT_LT(relative_difference(before.covariance(), reference.covariance()), 1e-12);
 
@@ -122,8 +121,10 @@ TEST(ViewRegistration, SingleViewNeverLearnsAndCarriesItsWholePrior) {
   for (int step = 0; step < 10; ++step) {
     std::vector<Measurement> rows;
     for (int object = 0; object < 3; ++object) {
-      rows.push_back(measurement("a", "a" + std::to_string(object), uniform_point(rng, 5.0), random_spd(rng, 0.02)));
-      rows.push_back(measurement("b", "b" + std::to_string(object), uniform_point(rng, 5.0), random_spd(rng, 0.02)));
+      rows.push_back(
+          measurement("a", "a" + std::to_string(object), uniform_point(rng, 5.0), random_spd(rng, 0.02)));
+      rows.push_back(
+          measurement("b", "b" + std::to_string(object), uniform_point(rng, 5.0), random_spd(rng, 0.02)));
     }
     registration.learn(pointers(rows));
   }
@@ -175,7 +176,8 @@ TEST(ViewRegistration, TwoViewsLearnTheirDifferenceAndKeepTheCommonModeAtThePrio
   const Vector3d estimated_difference = h * registration.offset("b") - h * registration.offset("a");
   const Vector3d error = estimated_difference - true_difference;
   for (int axis = 0; axis < 3; ++axis) {
-    EXPECT_LT(std::abs(error[axis]), 4.0 * std::sqrt(difference_variance)) << "axis " << axis << ": " << error.transpose();
+    EXPECT_LT(std::abs(error[axis]), 4.0 * std::sqrt(difference_variance))
+        << "axis " << axis << ": " << error.transpose();
   }
   EXPECT_LT(error.norm(), 0.02);
   // Shrunk: from 2h = 0.5 m² per axis to about 2r²/N.
@@ -186,8 +188,8 @@ TEST(ViewRegistration, TwoViewsLearnTheirDifferenceAndKeepTheCommonModeAtThePrio
   const double marginal_variance = (2.0 * prior_variance + difference_variance) / 4.0;
   for (const char* view : {"a", "b"}) {
     const Matrix3d projected = h * registration.offset_covariance(view) * h.transpose();
-    EXPECT_LT(relative_difference(projected, marginal_variance * Matrix3d::Identity()), 1e-9)
-        << view << "\n" << projected;
+    EXPECT_LT(relative_difference(projected, marginal_variance * Matrix3d::Identity()), 1e-9) << view << "\n"
+                                                                                              << projected;
   }
   // The fused measurement of a fresh object keeps the common mode's variance: about h per axis
   // ((2h)/4 for the mean of the two offsets, plus r²/2 for the noise).
@@ -201,9 +203,9 @@ TEST(ViewRegistration, TwoViewsLearnTheirDifferenceAndKeepTheCommonModeAtThePrio
 }
 
 // Four views, one (c) precise and biased by b_c. The plain weighted mean follows c most of the
-// way (its weight is 0.89); with the offsets learned the views agree, and the fused mean is off only by what no view can
-// see, the common mode: with equal translation priors its estimate is the mean offset, so the fused
-// error is b_c / 4.
+// way (its weight is 0.89); with the offsets learned the views agree, and the fused mean is off only by what
+// no view can see, the common mode: with equal translation priors its estimate is the mean offset, so the
+// fused error is b_c / 4.
 TEST(ViewRegistration, CombineCorrectsAPreciseBiasedView) {
   RegistrationPrior prior;
   prior.translation_sigma = Vector3d::Constant(2.0);
@@ -228,7 +230,8 @@ TEST(ViewRegistration, CombineCorrectsAPreciseBiasedView) {
       truths.push_back(uniform_point(rng, 20.0));
       for (const std::string& view : views) {
         rows.push_back(measurement(view, "o" + std::to_string(object),
-                                   measure(truths.back(), offset_of(view), noise_of(view), rng), noise_of(view), step));
+                                   measure(truths.back(), offset_of(view), noise_of(view), rng),
+                                   noise_of(view), step));
       }
     }
     return rows;
@@ -330,21 +333,25 @@ TEST(ViewRegistration, OrderOfRowsWithinAStepDoesNotMatter) {
       const Vector3d truth = uniform_point(rng, 10.0);
       for (std::size_t v = 0; v < views.size(); ++v) {
         const Matrix3d r = random_spd(rng, 0.01, 10.0);
-        rows.push_back(measurement(views[v], "o" + std::to_string(object), measure(truth, offsets[v], r, rng), r, step));
+        rows.push_back(
+            measurement(views[v], "o" + std::to_string(object), measure(truth, offsets[v], r, rng), r, step));
       }
     }
     std::vector<const Measurement*> in_order = pointers(rows);
     // Objects in reverse order, the views of each object rotated.
     std::vector<const Measurement*> reordered;
     for (int object = 3; object >= 0; --object) {
-      for (int v = 0; v < 3; ++v) reordered.push_back(in_order[static_cast<std::size_t>(3 * object + (v + object) % 3)]);
+      for (int v = 0; v < 3; ++v)
+        reordered.push_back(in_order[static_cast<std::size_t>(3 * object + (v + object) % 3)]);
     }
     forward.learn(in_order);
     shuffled.learn(reordered);
   }
   for (const std::string& view : views) {
     EXPECT_LT((forward.offset(view) - shuffled.offset(view)).cwiseAbs().maxCoeff(), 1e-9) << view;
-    EXPECT_LT((forward.offset_covariance(view) - shuffled.offset_covariance(view)).cwiseAbs().maxCoeff(), 1e-9) << view;
+    EXPECT_LT((forward.offset_covariance(view) - shuffled.offset_covariance(view)).cwiseAbs().maxCoeff(),
+              1e-9)
+        << view;
   }
   EXPECT_GT(forward.offset("a").norm(), 0.0);  // something was learned
   const Matrix3d r = 0.01 * Matrix3d::Identity();

@@ -1,10 +1,9 @@
-#include "stgf/io/method_config_file.hpp"
+#include <gtest/gtest.h>
 
 #include <fstream>
 
-#include <gtest/gtest.h>
-
 #include "stgf/io/input_error.hpp"
+#include "stgf/io/method_config_file.hpp"
 
 namespace stgf {
 namespace {
@@ -37,12 +36,77 @@ TEST(MethodConfigFile, ReadsMmtSettings) {
 TEST(MethodConfigFile, ErrorsNameTheLine) {
   EXPECT_EQ(error_of("mmt:\n  position_noise_density: 1\n  velocity_nosie_density: 2\n"),
             "c.yaml:3: unknown setting 'mmt.velocity_nosie_density'");
-  EXPECT_EQ(error_of("mmt:\n  position_noise_density: fast\n"), "c.yaml:2: mmt.position_noise_density must be a number");
+  EXPECT_EQ(error_of("mmt:\n  position_noise_density: fast\n"),
+            "c.yaml:2: mmt.position_noise_density must be a number");
   EXPECT_EQ(error_of("mmt:\n  position_noise_density: -1\n"),
             "c.yaml:2: mmt.position_noise_density must be a finite number > 0");
-  EXPECT_EQ(error_of("# c\nkalman:\n  a: 1\n"), "c.yaml:2: unknown section 'kalman' (known: mmt)");
+  EXPECT_EQ(error_of("# c\nkalman:\n  a: 1\n"), "c.yaml:2: unknown section 'kalman' (known: mmt, ours)");
   EXPECT_EQ(error_of("mmt: [1, 2\n"), error_of("mmt: [1, 2\n"));  // deterministic parse errors
   EXPECT_NE(error_of("mmt: [1, 2\n").find("c.yaml:"), std::string::npos);
+}
+
+TEST(MethodConfigFile, OursDefaults) {
+  const MethodConfig config = parse_method_config("c.yaml", "mmt:\n  position_noise_density: 0.5\n");
+  EXPECT_TRUE(config.ours.registration);
+  EXPECT_FALSE(config.ours.translation_sigma.has_value());
+  EXPECT_FALSE(config.ours.noise_ratio.has_value());
+}
+
+TEST(MethodConfigFile, ReadsOursSettings) {
+  const MethodConfig listed =
+      parse_method_config("c.yaml",
+                          "ours:\n  registration: false\n  registration_translation_sigma_m: [0.3, 0.2, 0]\n"
+                          "  registration_noise_ratio: 0.5\n");
+  EXPECT_FALSE(listed.ours.registration);
+  ASSERT_TRUE(listed.ours.translation_sigma.has_value());
+  EXPECT_EQ(*listed.ours.translation_sigma, Vector3d(0.3, 0.2, 0.0));
+  ASSERT_TRUE(listed.ours.noise_ratio.has_value());
+  EXPECT_DOUBLE_EQ(*listed.ours.noise_ratio, 0.5);
+  EXPECT_DOUBLE_EQ(listed.mmt.position_noise_density, 10.0);  // the other section keeps its defaults
+
+  // One number: the same σ on every axis; a ratio of 0 is allowed (no noise-unit offset).
+  const MethodConfig scalar = parse_method_config(
+      "c.yaml",
+      "mmt:\n  velocity_noise_density: 2\nours:\n  registration_translation_sigma_m: 0.25\n"
+      "  registration_noise_ratio: 0\n");
+  EXPECT_TRUE(scalar.ours.registration);
+  ASSERT_TRUE(scalar.ours.translation_sigma.has_value());
+  EXPECT_EQ(*scalar.ours.translation_sigma, Vector3d::Constant(0.25));
+  ASSERT_TRUE(scalar.ours.noise_ratio.has_value());
+  EXPECT_EQ(*scalar.ours.noise_ratio, 0.0);
+  EXPECT_DOUBLE_EQ(scalar.mmt.velocity_noise_density, 2.0);
+
+  EXPECT_TRUE(parse_method_config("c.yaml", "ours:\n  registration: true\n").ours.registration);
+}
+
+TEST(MethodConfigFile, OursErrorsNameTheLine) {
+  EXPECT_EQ(error_of("ours:\n  registration: true\n  registration_noise_ratio: -0.5\n"),
+            "c.yaml:3: ours.registration_noise_ratio must be a finite number >= 0");
+  EXPECT_EQ(error_of("ours:\n  registration_noise_ratio: lots\n"),
+            "c.yaml:2: ours.registration_noise_ratio must be a number");
+  EXPECT_EQ(
+      error_of("ours:\n  registration_translation_sigma_m: [0.3, 0.2]\n"),
+      "c.yaml:2: ours.registration_translation_sigma_m must be one number or a list of three (x, y, z)");
+  EXPECT_EQ(error_of("ours:\n  registration_translation_sigma_m:\n    - 0.3\n    - -0.2\n    - 0\n"),
+            "c.yaml:4: ours.registration_translation_sigma_m must be a finite number >= 0");
+  EXPECT_EQ(error_of("ours:\n  registration_translation_sigma_m: -1\n"),
+            "c.yaml:2: ours.registration_translation_sigma_m must be a finite number >= 0");
+  EXPECT_EQ(error_of("ours:\n\n  registration: maybe\n"),
+            "c.yaml:3: ours.registration must be true or false");
+  EXPECT_EQ(error_of("ours:\n  registration: 1.5\n"), "c.yaml:2: ours.registration must be true or false");
+  EXPECT_EQ(error_of("mmt:\n  position_noise_density: 1\nours:\n  registration: true\n  foo: 1\n"),
+            "c.yaml:5: unknown setting 'ours.foo'");
+  EXPECT_EQ(error_of("ours: [1, 2]\n"), "c.yaml:1: ours must be a mapping of settings");
+  // The same through the file reader: the message names the file.
+  const std::string path = ::testing::TempDir() + "stgf_ours_config.yaml";
+  std::ofstream(path) << "ours:\n  registration_noise_ratio: -1\n";
+  try {
+    read_method_config(path);
+    ADD_FAILURE() << "no InputError";
+  } catch (const InputError& error) {
+    EXPECT_EQ(error.file(), path);
+    EXPECT_EQ(error.line(), 2);
+  }
 }
 
 // The shipped, documented config holds exactly the defaults.
@@ -53,6 +117,9 @@ TEST(MethodConfigFile, ShippedConfigHoldsTheDefaults) {
   EXPECT_EQ(shipped.mmt.initial_velocity_variance, defaults.mmt.initial_velocity_variance);
   EXPECT_EQ(shipped.mmt.position_noise_density, defaults.mmt.position_noise_density);
   EXPECT_EQ(shipped.mmt.velocity_noise_density, defaults.mmt.velocity_noise_density);
+  EXPECT_EQ(shipped.ours.registration, defaults.ours.registration);
+  EXPECT_EQ(shipped.ours.translation_sigma.has_value(), defaults.ours.translation_sigma.has_value());
+  EXPECT_EQ(shipped.ours.noise_ratio.has_value(), defaults.ours.noise_ratio.has_value());
 }
 
 }  // namespace

@@ -1,10 +1,9 @@
 // The registration prior in a model file's metadata (learn/registration_metadata.hpp): round trip,
 // absent, malformed; and the prior `ours` runs with once the config's settings are applied.
 
-#include "stgf/learn/registration_metadata.hpp"
-
 #include <gtest/gtest.h>
 
+#include "stgf/learn/registration_metadata.hpp"
 #include "support/input_errors.hpp"
 
 namespace stgf {
@@ -82,8 +81,8 @@ TEST(RegistrationMetadata, MalformedCalibrationNamesTheFile) {
   }
   for (const nlohmann::json& entry : malformed) {
     const nlohmann::json metadata = {{"registration", entry}};
-    const std::string message =
-        expect_input_error([&] { registration_prior_from_metadata(metadata, "models/m.pt"); }, "models/m.pt", 0);
+    const std::string message = expect_input_error(
+        [&] { registration_prior_from_metadata(metadata, "models/m.pt"); }, "models/m.pt", 0);
     EXPECT_NE(message.find("registration"), std::string::npos) << entry.dump();
   }
 }
@@ -94,7 +93,8 @@ TEST(RegistrationMetadata, RegistrationOffGivesTheZeroPrior) {
   settings.translation_sigma = Vector3d::Constant(1.0);
   settings.noise_ratio = 2.0;
   bool missing = true;
-  const RegistrationPrior prior = resolve_registration_prior(settings, metadata_with(calibrated_prior()), "m.pt", &missing);
+  const RegistrationPrior prior =
+      resolve_registration_prior(settings, metadata_with(calibrated_prior()), "m.pt", &missing);
   EXPECT_TRUE(prior.is_zero());
   EXPECT_FALSE(missing);
 }
@@ -132,7 +132,8 @@ TEST(RegistrationMetadata, MissingWhenNeitherCalibratedNorFullySet) {
   const nlohmann::json uncalibrated = {{"trained_on", "mpl"}};
   bool missing = false;
   {
-    const RegistrationPrior prior = resolve_registration_prior(OursSettings{}, uncalibrated, "m.pt", &missing);
+    const RegistrationPrior prior =
+        resolve_registration_prior(OursSettings{}, uncalibrated, "m.pt", &missing);
     EXPECT_TRUE(prior.is_zero());
     EXPECT_TRUE(missing);
   }
@@ -159,7 +160,8 @@ TEST(RegistrationMetadata, MissingWhenNeitherCalibratedNorFullySet) {
   EXPECT_TRUE(resolve_registration_prior(OursSettings{}, uncalibrated, "m.pt").is_zero());
   // A malformed calibration is an error, not a silent zero.
   const nlohmann::json malformed = {{"registration", {{"noise_ratio", 1.0}}}};
-  expect_input_error([&] { resolve_registration_prior(OursSettings{}, malformed, "m.pt", &missing); }, "m.pt", 0);
+  expect_input_error([&] { resolve_registration_prior(OursSettings{}, malformed, "m.pt", &missing); }, "m.pt",
+                     0);
 }
 
 }  // namespace
