@@ -8,6 +8,7 @@
 //   items = object-views, so items/s at n = 1 is tracks updated per second.
 // BM_MmtLocalizerStep: the whole `mmt` method on a step of 200 objects × 8 views, including the
 //   grouping of measurements by object and the per-row output.
+// BM_RegistrationStep/n: `ours`' registration handling (combine + learn) for 4 objects × n views.
 
 #include <random>
 #include <vector>
@@ -16,6 +17,7 @@
 
 #include "stgf/core/constant_velocity_filter.hpp"
 #include "stgf/core/multi_view_update.hpp"
+#include "stgf/core/view_registration.hpp"
 #include "stgf/methods/multi_view_kalman_tracker.hpp"
 
 namespace stgf {
@@ -99,6 +101,39 @@ void BM_MmtLocalizerStep(benchmark::State& state) {
   state.SetItemsProcessed(state.iterations() * kObjects * kViews);
 }
 BENCHMARK(BM_MmtLocalizerStep);
+
+// The registration handling of `ours` on one step of 4 objects seen by n views (the mpl shape at
+// n = 7): combine() per object, then learn() from the step; items = object-views.
+void BM_RegistrationStep(benchmark::State& state) {
+  const int views = static_cast<int>(state.range(0));
+  constexpr int kObjects = 4;
+  std::mt19937_64 rng(5);
+  std::vector<Measurement> rows;
+  for (int i = 0; i < kObjects; ++i) {
+    for (int v = 0; v < views; ++v) {
+      rows.push_back(Measurement{"scene", 0.0, "v" + std::to_string(v), "o" + std::to_string(i),
+                                 Gaussian3::from_covariance(Vector3d::Random(), random_covariance(rng, 0.01)),
+                                 std::nullopt});
+    }
+  }
+  RegistrationPrior prior;
+  prior.translation_sigma = Vector3d(0.3, 0.3, 0.0);
+  prior.noise_ratio = 0.5;
+  ViewRegistration registration(prior);
+  std::vector<const Measurement*> step;
+  for (const Measurement& row : rows) step.push_back(&row);
+  registration.learn(step);  // every view known, as in the steady state of a scene
+  for (auto _ : state) {
+    for (int i = 0; i < kObjects; ++i) {
+      const Gaussian3 combined = registration.combine(std::span(step).subspan(static_cast<std::size_t>(i * views),
+                                                                             static_cast<std::size_t>(views)));
+      benchmark::DoNotOptimize(combined);
+    }
+    registration.learn(step);
+  }
+  state.SetItemsProcessed(state.iterations() * kObjects * views);
+}
+BENCHMARK(BM_RegistrationStep)->Arg(2)->Arg(4)->Arg(7);
 
 }  // namespace
 }  // namespace stgf

@@ -14,6 +14,7 @@
 #include <filesystem>
 #include <fstream>
 #include <map>
+#include <optional>
 #include <sstream>
 #include <stdexcept>
 
@@ -72,11 +73,17 @@ std::string read_text(const fs::path& path) {
   return text.str();
 }
 
-// Whether `stamp` holds exactly `recipe` (written when the thing it describes was made).
-bool stamp_matches(const fs::path& stamp, const nlohmann::json& recipe) {
-  if (!fs::exists(stamp)) return false;
+// A stamp, written when a benchmark or model is made: {"recipe": how it was made, "seconds": how
+// long that took}. Returns the seconds when `stamp` holds exactly `recipe`.
+std::optional<double> stamp_matches(const fs::path& stamp, const nlohmann::json& recipe) {
+  if (!fs::exists(stamp)) return std::nullopt;
   const nlohmann::json stored = nlohmann::json::parse(read_text(stamp), nullptr, false);
-  return !stored.is_discarded() && stored == recipe;
+  if (stored.is_discarded() || !stored.is_object() || stored.value("recipe", nlohmann::json()) != recipe) return std::nullopt;
+  return stored.value("seconds", 0.0);
+}
+
+void write_stamp(const fs::path& stamp, const nlohmann::json& recipe, double seconds) {
+  write_text_file(stamp.string(), nlohmann::json{{"recipe", recipe}, {"seconds", seconds}}.dump(2) + "\n");
 }
 
 int epochs_of(const ReproduceOptions& options) { return options.epochs > 0 ? options.epochs : options.quick ? 3 : 8; }
@@ -137,15 +144,16 @@ void ensure_benchmark(const std::string& name, const fs::path& folder, const Rep
                       Progress& progress, std::map<std::string, double>& timings) {
   const nlohmann::json recipe = benchmark_recipe(name, options);
   const fs::path stamp = folder / "reproduce-recipe.json";
-  if (fs::exists(folder / "benchmark.json") && stamp_matches(stamp, recipe)) {
+  if (const auto seconds = stamp_matches(stamp, recipe); seconds && fs::exists(folder / "benchmark.json")) {
     progress.next("benchmark: reusing " + folder.string());
+    timings["build benchmark (reused)"] = *seconds;
     return;
   }
   progress.next("benchmark: building " + folder.string());
   const Stopwatch watch;
   write_benchmark_folder(folder.string(), make_benchmark(name, options));
-  write_text_file(stamp.string(), recipe.dump(2) + "\n");
   timings["build benchmark"] = watch.seconds();
+  write_stamp(stamp, recipe, timings["build benchmark"]);
 }
 
 void ensure_model(const std::string& name, const fs::path& benchmark, const fs::path& model, const std::string& input,
@@ -156,8 +164,9 @@ void ensure_model(const std::string& name, const fs::path& benchmark, const fs::
                                  {"seed", options.seed},
                                  {"training_recipe_version", kTrainingRecipeVersion}};
   const fs::path stamp = fs::path(model.string() + ".recipe.json");
-  if (fs::exists(model) && stamp_matches(stamp, recipe)) {
+  if (const auto seconds = stamp_matches(stamp, recipe); seconds && fs::exists(model)) {
     spdlog::info("  model: reusing {}", model.string());
+    timings["train " + input + " model (reused)"] = *seconds;
     return;
   }
   spdlog::info("  model: training {} on {} histories ({} epochs)", model.string(), input, epochs_of(options));
@@ -171,8 +180,8 @@ void ensure_model(const std::string& name, const fs::path& benchmark, const fs::
   training.training.seed = options.seed;
   training.training.threads = options.threads;
   train_model(training);
-  write_text_file(stamp.string(), recipe.dump(2) + "\n");
   timings["train " + input + " model"] = watch.seconds();
+  write_stamp(stamp, recipe, timings["train " + input + " model"]);
 }
 
 // Runs `method` over the test measurements and writes its estimates file; returns the file.

@@ -146,7 +146,7 @@ std::string results_markdown(const ReproduceSummary& summary, const std::vector<
   for (const BenchmarkResult& result : results) {
     for (const auto& [stage, seconds] : result.timings) text += fmt::format("| {} | {} | {:.1f} |\n", result.name, stage, seconds);
   }
-  text += "\nStages not listed reused earlier output (same recipe).\n";
+  text += "\n\"(reused)\": made by an earlier run with the same recipe; the time is what making it took then.\n";
   return text;
 }
 

@@ -74,6 +74,10 @@ class Cli : public ::testing::Test {
   fs::path directory_;
 };
 
+// Recorded by GoldenEndToEnd's first run (see there).
+constexpr double kGoldenOursDe = 0.187455;
+constexpr double kGoldenWlsDe = 0.230529;
+
 const std::string kHeader = "scene,t,view,object,x,y,z,cov_xx,cov_xy,cov_xz,cov_yy,cov_yz,cov_zz\n";
 const std::string kGoodRows =
     "s,0,v1,o1,0,0,0,1,0,0,1,0,1\n"
@@ -221,6 +225,69 @@ TEST_F(Cli, LearnedMethodsNeedTheRightModel) {
   EXPECT_EQ(result.status, 2);
   EXPECT_THAT(result.err, HasSubstr("was trained on fused histories; --method sttp needs a model trained with --input raw"));
   EXPECT_FALSE(exists("e.csv"));
+}
+
+// The whole pipeline on a small fixed-seed benchmark: data, training (one thread, fixed seed), the
+// filter, the scores. The recorded numbers come from this test's first run (GCC 12, Release, x86-64);
+// the tolerance allows for LibTorch kernels that round differently on another CPU, and nothing more.
+TEST_F(Cli, GoldenEndToEnd) {
+  ASSERT_EQ(stgf("dataset synthetic --out bench --seed 11 --scenes 4 --objects 4 --views 3 --steps 20").status, 0);
+  const Result trained = stgf("train --benchmark bench --out fused.pt --input fused --epochs 2 --batch 8 --threads 1 --seed 1");
+  ASSERT_EQ(trained.status, 0) << trained.err;
+  const std::string m = "--measurements bench/test/measurements.csv";
+  ASSERT_EQ(stgf("run --method ours --model fused.pt " + m + " --out ours.csv").status, 0);
+  ASSERT_EQ(stgf("run --method wls " + m + " --out wls.csv").status, 0);
+  const Result eval =
+      stgf("eval --truth bench/test/truth.csv " + m + " --estimates wls.csv ours.csv --from-step 2 --json scores.json");
+  ASSERT_EQ(eval.status, 0) << eval.err;
+  const std::string json = slurp(directory_ / "scores.json");
+  auto number_after = [&](const std::string& method, const std::string& key) {
+    const std::size_t at = json.find("\"method\": \"" + method + "\"");
+    EXPECT_NE(at, std::string::npos) << json;
+    const std::size_t field = json.find("\"" + key + "\": ", at);
+    return std::stod(json.substr(field + key.size() + 4));
+  };
+  const double ours = number_after("ours", "de");
+  const double wls = number_after("wls", "de");
+  std::printf("golden: ours DE %.6f m, NEES %.4f; wls DE %.6f m\n", ours, number_after("ours", "nees_mean"), wls);
+  EXPECT_NEAR(ours, kGoldenOursDe, 0.02 * kGoldenOursDe);
+  EXPECT_NEAR(wls, kGoldenWlsDe, 1e-6);  // no learning involved: exact up to printing
+  EXPECT_LT(ours, wls);
+}
+
+// stgf reproduce end to end on a tiny mpl benchmark: every output, then reuse on a second run.
+TEST_F(Cli, ReproduceWritesTablesAndFiguresAndReuses) {
+  const std::string arguments =
+      "reproduce --benchmarks mpl --out r --instances 12,8,12 --epochs 1 --threads 1 --mpl-source '" STGF_DATA_DIR
+      "/pets2009_s2l1'";
+  const Result first = stgf(arguments);
+  ASSERT_EQ(first.status, 0) << first.err;
+  for (const std::string method : {"| aom |", "| mmt |", "| sttp |", "| ours-l |", "| ours |", "| wls |",
+                                   "| ours-registration-off |"}) {
+    EXPECT_THAT(first.out, HasSubstr(method));
+  }
+  EXPECT_THAT(first.err, HasSubstr("[mpl 5/5]"));
+  const std::string results = slurp(directory_ / "r/results.md");
+  EXPECT_THAT(results, HasSubstr("## Table I"));
+  EXPECT_THAT(results, HasSubstr("ours / aom"));
+  EXPECT_THAT(results, HasSubstr("## Registration error"));
+  EXPECT_THAT(slurp(directory_ / "r/results.json"), HasSubstr("\"ours-registration-off\""));
+  for (const std::string file : {"r/models/mpl.pt", "r/models/mpl-sttp.pt", "r/estimates/mpl/ours.csv",
+                                 "r/figures/views-mpl.gp", "r/figures/views-mpl.dat", "r/figures/trajectories-mpl.gp"}) {
+    EXPECT_TRUE(exists(file)) << file;
+  }
+  if (std::system("gnuplot --version >/dev/null 2>&1") == 0) {
+    for (const std::string file : {"r/figures/views-mpl.svg", "r/figures/views-mpl.png", "r/figures/trajectories-mpl.svg",
+                                   "r/figures/trajectories-mpl.png"}) {
+      EXPECT_TRUE(exists(file)) << file;
+    }
+  }
+  const Result second = stgf(arguments);
+  ASSERT_EQ(second.status, 0) << second.err;
+  EXPECT_THAT(second.err, HasSubstr("benchmark: reusing"));
+  EXPECT_THAT(second.err, HasSubstr("model: reusing"));
+  EXPECT_EQ(second.out, first.out);  // the same table
+  EXPECT_EQ(stgf("reproduce --benchmarks nope --out r2").status, 2);
 }
 
 }  // namespace
