@@ -10,6 +10,7 @@
 // then write DIR/results.md (Table I, the paper comparison, registration on/off, DE by number of
 // views, figures, timings), DIR/results.json, and the figures in DIR/figures (SVG and PNG by gnuplot).
 
+#include <algorithm>
 #include <chrono>
 #include <filesystem>
 #include <fstream>
@@ -31,6 +32,7 @@
 #include "stgf/datasets/cad_benchmark.hpp"
 #include "stgf/datasets/mpl_benchmark.hpp"
 #include "stgf/io/estimate_file.hpp"
+#include "stgf/io/input_error.hpp"
 #include "stgf/io/evaluation_report.hpp"
 #include "stgf/io/measurement_file.hpp"
 #include "stgf/io/output_file.hpp"
@@ -313,6 +315,12 @@ void reproduce(const ReproduceOptions& options) {
   const Stopwatch watch;
   for (const std::string& name : options.benchmarks) {
     if (name != "mpl" && name != "cad") throw std::invalid_argument("--benchmarks: unknown benchmark '" + name + "' (known: mpl, cad)");
+  }
+  const bool wants_cad = std::find(options.benchmarks.begin(), options.benchmarks.end(), "cad") != options.benchmarks.end();
+  if (wants_cad && !fs::is_directory(options.kitti_source)) {
+    throw InputError(options.kitti_source, 0,
+                     "no KITTI tracking folder here; cad is built from KITTI (not shipped, see data/README.md): give "
+                     "--kitti-source, or run --benchmarks mpl");
   }
   if (!options.instances.empty() && options.instances.size() != 3) {
     throw std::invalid_argument("--instances takes three numbers: train,val,test");

@@ -288,6 +288,10 @@ TEST_F(Cli, ReproduceWritesTablesAndFiguresAndReuses) {
   EXPECT_THAT(second.err, HasSubstr("model: reusing"));
   EXPECT_EQ(second.out, first.out);  // the same table
   EXPECT_EQ(stgf("reproduce --benchmarks nope --out r2").status, 2);
+  const Result no_kitti = stgf("reproduce --benchmarks cad --kitti-source nowhere --out r3");
+  EXPECT_EQ(no_kitti.status, 2);
+  EXPECT_THAT(no_kitti.err, StartsWith("nowhere: no KITTI tracking folder here"));
+  EXPECT_FALSE(exists("r3/results.md"));
 }
 
 }  // namespace
