@@ -45,7 +45,8 @@ std::vector<Gaussian3> run_named_method(const std::string& method, const MethodC
                  "taken as zero unless set under `ours:` in --config",
                  model_path);
   }
-  return run_localizer([&] { return std::make_unique<SpatiotemporalGraphFilter>(*model, registration); }, rows);
+  const SpatiotemporalGraphFilter::Options options{registration, config.ours.adapt_process_noise};
+  return run_localizer([&] { return std::make_unique<SpatiotemporalGraphFilter>(*model, options); }, rows);
 }
 
 }  // namespace stgf::cli

@@ -80,6 +80,12 @@ void read_ours(const std::string& path, const YAML::Node& node, OursSettings& se
       } else {
         settings.translation_sigma = Vector3d::Constant(non_negative_number(path, name, value));
       }
+    } else if (key == "adapt_process_noise") {
+      try {
+        settings.adapt_process_noise = entry.second.as<bool>();
+      } catch (const YAML::Exception&) {
+        throw InputError(path, line_of(entry.second), name + " must be true or false");
+      }
     } else if (key == "registration_noise_ratio") {
       settings.noise_ratio = non_negative_number(path, name, entry.second);
     } else {

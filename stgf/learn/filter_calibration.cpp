@@ -22,7 +22,7 @@ std::vector<Residual> filter_residuals(const MotionModel& model, const Registrat
   std::vector<Residual> residuals;
   std::vector<const Measurement*> step_measurements;
   for (const Scene& scene : group_into_scenes(measurements)) {
-    SpatiotemporalGraphFilter filter(model, registration);
+    SpatiotemporalGraphFilter filter(model, {registration, /*adapt_process_noise=*/false});
     for (const Step& step : scene.steps) {
       step_measurements.clear();
       for (std::size_t row : step.rows) step_measurements.push_back(&measurements[row]);

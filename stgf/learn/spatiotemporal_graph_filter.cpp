@@ -22,10 +22,12 @@ std::vector<Gaussian3> SpatiotemporalGraphFilter::step(double time,
     measurements_of_object[measurement->object].push_back(measurement->position);
     rows_of_object[measurement->object].push_back(measurement);
   }
-  // With registration offsets to account for: one corrected, combined measurement per object.
+  // One combined measurement per object: corrected for the registration offsets when there are any
+  // to account for, else the information-weighted mean (then only used for the innovation).
   std::unordered_map<std::string_view, Gaussian3> combined;
-  if (registration_.active()) {
-    for (const auto& [object, rows] : rows_of_object) combined.emplace(object, registration_.combine(rows));
+  for (const auto& [object, rows] : rows_of_object) {
+    combined.emplace(object, registration_.active() ? registration_.combine(rows)
+                                                    : information_weighted_mean(measurements_of_object.at(object)));
   }
 
   // The graph of each view: the objects it measures now and has tracked before (views in order of
@@ -56,6 +58,13 @@ std::vector<Gaussian3> SpatiotemporalGraphFilter::step(double time,
   estimates.reserve(measurements.size());
   const auto history_limit = static_cast<std::size_t>(predictor_.history_positions());
   last_predictions_.assign(measurements.size(), std::nullopt);
+  const double scale = process_noise_scale_.scale();  // λ from the earlier steps
+  struct Innovation {
+    Vector3d value;
+    Matrix3d known_covariance;  // P̂_last + R
+    Matrix3d process_noise;     // Q(Δt)
+  };
+  std::unordered_map<std::string_view, Innovation> innovation_of_object;  // the object's first such row
   for (std::size_t row = 0; row < measurements.size(); ++row) {
     const Measurement& measurement = *measurements[row];
     Track& track = tracks_[measurement.view][measurement.object];
@@ -64,7 +73,15 @@ std::vector<Gaussian3> SpatiotemporalGraphFilter::step(double time,
       // P = P̂_last + Q(Δt), plus the unknown velocity's spread for a single-position track.
       const TrackPoint& last = track.back();
       const double dt = time - last.time;
-      Matrix3d covariance = last.estimate.covariance() + predictor_.process_noise(dt);
+      const Matrix3d process_noise = predictor_.process_noise(dt);
+      Matrix3d covariance = last.estimate.covariance() + scale * process_noise;
+      if (track.size() >= 2 && adapt_process_noise_ && !innovation_of_object.contains(measurement.object)) {
+        const Gaussian3& observed = combined.at(measurement.object);
+        innovation_of_object.emplace(
+            measurement.object,
+            Innovation{observed.mean() - predicted[index->first][index->second],
+                       last.estimate.covariance() + observed.covariance(), process_noise});
+      }
       if (track.size() == 1) {
         const double spread = predictor_.typical_speed() * dt;
         covariance += spread * spread * Matrix3d::Identity();
@@ -82,6 +99,14 @@ std::vector<Gaussian3> SpatiotemporalGraphFilter::step(double time,
     estimates.push_back(fused);
   }
   registration_.learn(measurements);
+  // In row order (an unordered_map's order could differ between library versions).
+  for (const Measurement* measurement : measurements) {
+    const auto found = innovation_of_object.find(measurement->object);
+    if (found == innovation_of_object.end()) continue;
+    const Innovation& innovation = found->second;
+    process_noise_scale_.add(innovation.value, innovation.known_covariance, innovation.process_noise);
+    innovation_of_object.erase(found);
+  }
   return estimates;
 }
 

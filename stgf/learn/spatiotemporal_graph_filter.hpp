@@ -7,7 +7,11 @@
 //   1. Predict. For each view v and each object i that v measures at t and has tracked before, Φ
 //      predicts x from v's track of i (and v's other tracked objects, the graph of view v); all
 //      views' graphs go through Φ in one batched pass.
-//      P = P̂_last + Q(Δt)  (+ (s Δt)² I when the track holds a single position: no velocity yet).
+//      P = P̂_last + λ Q(Δt)  (+ (s Δt)² I when the track holds a single position: no velocity yet).
+//      λ (1 unless adapted) scales Q to the data at hand: on data unlike the training data (another
+//      frame rate, other motion) Φ can predict far worse than its Q says, and the innovations show
+//      it; λ is estimated per scene from the innovations of earlier steps (process_noise_scale.hpp),
+//      one per object and step (the views' innovations of an object share its measurements).
 //      An object v has not tracked before starts diffuse: x = 0, P = 10⁴ I.
 //   2. Update. The multi-view update with the measurements of i by every view at t (shared):
 //      S = P⁻¹ + Σ_u R_u⁻¹, P̂ = S⁻¹, x̂ = P̂ (P⁻¹ x + Σ_u R_u⁻¹ z_u).
@@ -26,6 +30,7 @@
 #include <optional>
 #include <string>
 
+#include "stgf/core/process_noise_scale.hpp"
 #include "stgf/core/view_registration.hpp"
 #include "stgf/learn/motion_predictor.hpp"
 #include "stgf/methods/localizer.hpp"
@@ -34,9 +39,18 @@ namespace stgf {
 
 class SpatiotemporalGraphFilter final : public Localizer {
  public:
-  // `predictor` must outlive the filter. `registration`: the views' unstated offsets (zero: none).
-  explicit SpatiotemporalGraphFilter(const MotionPredictor& predictor, const RegistrationPrior& registration = {})
-      : predictor_(predictor), registration_(registration) {}
+  struct Options {
+    RegistrationPrior registration;   // the views' unstated offsets (zero: none)
+    bool adapt_process_noise = true;  // scale Q online from the innovations (false: λ = 1)
+  };
+
+  // `predictor` must outlive the filter.
+  explicit SpatiotemporalGraphFilter(const MotionPredictor& predictor) : SpatiotemporalGraphFilter(predictor, Options{}) {}
+  SpatiotemporalGraphFilter(const MotionPredictor& predictor, const Options& options)
+      : predictor_(predictor), registration_(options.registration), adapt_process_noise_(options.adapt_process_noise) {}
+
+  // The current scale λ of Q.
+  double process_noise_scale() const { return process_noise_scale_.scale(); }
 
   std::vector<Gaussian3> step(double time, std::span<const Measurement* const> measurements) override;
 
@@ -59,6 +73,8 @@ class SpatiotemporalGraphFilter final : public Localizer {
 
   const MotionPredictor& predictor_;
   ViewRegistration registration_;
+  bool adapt_process_noise_;
+  ProcessNoiseScale process_noise_scale_;
   std::vector<std::optional<Prediction>> last_predictions_;
   // view → object → track
   std::map<std::string, std::map<std::string, Track, std::less<>>, std::less<>> tracks_;

@@ -11,11 +11,13 @@
 
 namespace stgf {
 
-// How `ours` accounts for the views' registration error (core/view_registration.hpp).
+// `ours`: how it accounts for the views' registration error (core/view_registration.hpp) and for a
+// Q that does not fit the data (core/process_noise_scale.hpp).
 struct OursSettings {
   bool registration = true;                   // estimate each view's offset and keep its uncertainty
   std::optional<Vector3d> translation_sigma;  // σ of the translation offset (m); unset: the model's calibration
   std::optional<double> noise_ratio;          // σ of the noise-unit offset; unset: the model's calibration
+  bool adapt_process_noise = true;            // scale Q online from the innovations
 };
 
 // Settings of every method, read from the YAML config (see config/methods.yaml).

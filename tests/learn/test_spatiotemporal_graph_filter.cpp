@@ -3,6 +3,9 @@
 
 #include "stgf/learn/spatiotemporal_graph_filter.hpp"
 
+#include <cmath>
+#include <random>
+
 #include <Eigen/LU>
 #include <gtest/gtest.h>
 
@@ -32,7 +35,7 @@ void kalman_update(Vector3d& x, Matrix3d& p, const Vector3d& z, const Matrix3d& 
 TEST(SpatiotemporalGraphFilter, OneViewWithConstantVelocityIsAKalmanFilter) {
   const double q = 0.3, speed = 1.5, dt = 0.25;
   const ConstantVelocityPredictor predictor(q, speed);
-  SpatiotemporalGraphFilter filter(predictor);
+  SpatiotemporalGraphFilter filter(predictor, {RegistrationPrior{}, /*adapt_process_noise=*/false});
   Matrix3d r;
   r << 0.04, 0.01, 0, 0.01, 0.09, 0.002, 0, 0.002, 0.02;
   const std::vector<Vector3d> zs = {{1.0, 2.0, 0.0}, {1.4, 2.1, 0.05}, {1.9, 2.3, -0.02}, {2.3, 2.2, 0.0}, {2.8, 2.4, 0.01}};
@@ -92,4 +95,37 @@ TEST(SpatiotemporalGraphFilter, ViewJoiningMidSceneStartsFromTheMeasurements) {
 }
 
 }  // namespace
+// A predictor far worse than its Q says (constant velocity, tiny Q, an object that turns hard): with
+// adaptation the filter scales Q up and its estimates stay consistent; without, it trusts the
+// predictions and its NEES explodes.
+TEST(SpatiotemporalGraphFilter, AdaptsQWhenPredictionsAreWorseThanItSays) {
+  const ConstantVelocityPredictor predictor(1e-4, 1.0);
+  SpatiotemporalGraphFilter adaptive(predictor), fixed(predictor, {RegistrationPrior{}, false});
+  std::mt19937_64 random(9);
+  std::normal_distribution<double> normal;
+  const Matrix3d r = 0.01 * Matrix3d::Identity();
+  double nees_adaptive = 0.0, nees_fixed = 0.0;
+  int count = 0;
+  for (int k = 0; k < 60; ++k) {
+    const double t = 0.1 * k;
+    const Vector3d truth(3.0 * std::cos(t * 2.0), 3.0 * std::sin(t * 2.0), 0.0);  // 6 m/s on a 3 m circle
+    std::vector<Measurement> rows;
+    for (const char* view : {"a", "b"}) {
+      const Vector3d z = truth + 0.1 * Vector3d(normal(random), normal(random), normal(random));
+      rows.push_back(Measurement{"s", t, view, "o", Gaussian3::from_covariance(z, r), std::nullopt});
+    }
+    const Gaussian3 a = step(adaptive, t, rows)[0];
+    const Gaussian3 f = step(fixed, t, rows)[0];
+    if (k >= 10) {
+      nees_adaptive += a.mahalanobis_squared(truth);
+      nees_fixed += f.mahalanobis_squared(truth);
+      ++count;
+    }
+  }
+  EXPECT_GT(adaptive.process_noise_scale(), 100.0);
+  EXPECT_EQ(fixed.process_noise_scale(), 1.0);
+  EXPECT_LT(nees_adaptive / count, 6.0);
+  EXPECT_GT(nees_fixed / count, 50.0);
+}
+
 }  // namespace stgf
