@@ -22,6 +22,11 @@ void add_train_command(CLI::App& app) {
                       "position's covariance, drawn every epoch), or auto (matched for fused, observed for raw)")
       ->capture_default_str()
       ->check(CLI::IsMember({"auto", "observed", "matched"}));
+  command->add_option("--strides", options->strides,
+                      "also train on the scenes at 1/stride of their frame rate, for each stride (1: as recorded)")
+      ->delimiter(',')
+      ->capture_default_str()
+      ->check(CLI::PositiveNumber);
   command->add_option("--epochs", t.epochs, "training epochs")->capture_default_str()->check(CLI::PositiveNumber);
   command->add_option("--lr", t.learning_rate, "Adam learning rate")->capture_default_str()->check(CLI::PositiveNumber);
   command->add_option("--batch", t.batch_graphs, "graphs per optimisation step")

@@ -11,6 +11,7 @@
 #include <spdlog/spdlog.h>
 
 #include "stgf/core/registration_calibration.hpp"
+#include "stgf/core/steps.hpp"
 #include "stgf/io/measurement_file.hpp"
 #include "stgf/io/truth_file.hpp"
 #include "stgf/learn/filter_calibration.hpp"
@@ -28,7 +29,9 @@ struct Split {
   std::vector<Vector3d> truth_of_row;
 };
 
-Split read_split(const std::string& folder, HistorySource source, int history_length) {
+// `strides`: the graphs are made from the scenes at each of these fractions of the frame rate.
+Split read_split(const std::string& folder, HistorySource source, int history_length,
+                 const std::vector<int>& strides = {1}) {
   MeasurementFile measurements = read_measurements(folder + "/measurements.csv");
   const TruthFile truth = read_truth(folder + "/truth.csv");
   check_truth_matches(measurements, truth);
@@ -36,7 +39,13 @@ Split read_split(const std::string& folder, HistorySource source, int history_le
   std::vector<Vector3d> truth_of_row;
   truth_of_row.reserve(measurements.rows.size());
   for (const Measurement& row : measurements.rows) truth_of_row.push_back(*index.find(row.scene, row.time, row.object));
-  std::vector<TrainingGraph> graphs = make_training_graphs(measurements.rows, index, source, history_length);
+  std::vector<TrainingGraph> graphs;
+  for (const int stride : strides) {
+    const std::vector<TrainingGraph> strided =
+        stride == 1 ? make_training_graphs(measurements.rows, index, source, history_length)
+                    : make_training_graphs(every_nth_step(measurements.rows, stride), index, source, history_length);
+    graphs.insert(graphs.end(), strided.begin(), strided.end());
+  }
   RegistrationCalibration registration = calibrate_registration_prior(measurements.rows, truth_of_row);
   return {std::move(graphs), registration, std::move(measurements), std::move(truth_of_row)};
 }
@@ -100,10 +109,12 @@ void train_model(ModelTraining options) {
   // docs/learning.md), observed for raw ones.
   const bool matched = options.history_noise == "matched" || (options.history_noise == "auto" && options.input == "fused");
   options.training.history = matched ? HistoryNoise::kTruthWithMatchedNoise : HistoryNoise::kObserved;
-  options.training.metadata = {{"input", options.input}, {"benchmark", options.benchmark}};
+  options.training.metadata = {{"input", options.input}, {"benchmark", options.benchmark}, {"strides", options.strides}};
+  if (options.strides.empty()) throw std::invalid_argument("--strides needs at least one stride");
   const int history = options.training.shape.history_length + 1;  // positions = intervals + 1
   const auto start = std::chrono::steady_clock::now();
-  const std::vector<TrainingGraph> train_graphs = read_split(options.benchmark + "/train", source, history).graphs;
+  const std::vector<TrainingGraph> train_graphs =
+      read_split(options.benchmark + "/train", source, history, options.strides).graphs;
   const Split validation = read_split(options.benchmark + "/val", source, history);
   const std::vector<TrainingGraph>& validation_graphs = validation.graphs;
   spdlog::info("{} training and {} validation graphs ({} histories) read in {:.1f} s", train_graphs.size(),

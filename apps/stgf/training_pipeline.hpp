@@ -3,11 +3,14 @@
 //   1. read the benchmark's train/ and val/ splits (measurements and truth);
 //   2. calibrate the views' registration prior on val (core/registration_calibration.hpp), stored in
 //      the model for `ours`;
-//   3. train Φ (learn/motion_training.hpp), keeping the best epoch on val, Q calibrated on Φ's residuals;
+//   3. train Φ (learn/motion_training.hpp) on the train split at each of `strides` (every step, every
+//      2nd, every 3rd: lower frame rates), keeping the best epoch on val as recorded, Q calibrated
+//      on Φ's residuals there;
 //   4. fused input: calibrate Q again inside the filter on val (learn/filter_calibration.hpp).
 // Progress goes to the log (and a live line on a terminal).
 
 #include <string>
+#include <vector>
 
 #include "stgf/learn/motion_training.hpp"
 
@@ -18,6 +21,9 @@ struct ModelTraining {
   std::string out;                     // model file to write
   std::string input = "fused";         // raw (sttp) | fused (ours-l, ours)
   std::string history_noise = "auto";  // observed | matched | auto (matched for fused)
+  // Φ also learns from the training scenes seen at 1/stride of their frame rate, for each stride
+  // here (1 = as recorded), so it predicts at lower frame rates too.
+  std::vector<int> strides = {1, 2, 3};
   MotionTrainingOptions training;
 };
 

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <numeric>
+#include <stdexcept>
 #include <unordered_map>
 
 namespace stgf {
@@ -34,6 +35,21 @@ std::vector<Scene> group_into_scenes(std::span<const Measurement> measurements) 
     for (Step& step : steps) std::sort(step.rows.begin(), step.rows.end());
   }
   return scenes;
+}
+
+std::vector<Measurement> every_nth_step(std::span<const Measurement> measurements, int stride) {
+  if (stride < 1) throw std::invalid_argument("every_nth_step: stride must be at least 1");
+  std::vector<bool> kept(measurements.size(), false);
+  for (const Scene& scene : group_into_scenes(measurements)) {
+    for (std::size_t step = 0; step < scene.steps.size(); step += static_cast<std::size_t>(stride)) {
+      for (std::size_t row : scene.steps[step].rows) kept[row] = true;
+    }
+  }
+  std::vector<Measurement> rows;
+  for (std::size_t row = 0; row < measurements.size(); ++row) {
+    if (kept[row]) rows.push_back(measurements[row]);
+  }
+  return rows;
 }
 
 }  // namespace stgf

@@ -23,4 +23,9 @@ struct Scene {
 
 std::vector<Scene> group_into_scenes(std::span<const Measurement> measurements);
 
+// The rows of every `stride`-th step of each scene (steps 0, stride, 2·stride, …), in their order:
+// the same scenes seen at 1/stride of the frame rate. stride 1 keeps every row. Throws
+// std::invalid_argument for stride < 1.
+std::vector<Measurement> every_nth_step(std::span<const Measurement> measurements, int stride);
+
 }  // namespace stgf

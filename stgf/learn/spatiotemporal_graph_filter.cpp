@@ -58,7 +58,7 @@ std::vector<Gaussian3> SpatiotemporalGraphFilter::step(double time,
   estimates.reserve(measurements.size());
   const auto history_limit = static_cast<std::size_t>(predictor_.history_positions());
   last_predictions_.assign(measurements.size(), std::nullopt);
-  const double scale = process_noise_scale_.scale();  // λ from the earlier steps
+  const ProcessNoiseScale scale = process_noise_scale_;  // λ from the earlier steps
   struct Innovation {
     Vector3d value;
     Matrix3d known_covariance;  // P̂_last + R
@@ -74,7 +74,7 @@ std::vector<Gaussian3> SpatiotemporalGraphFilter::step(double time,
       const TrackPoint& last = track.back();
       const double dt = time - last.time;
       const Matrix3d process_noise = predictor_.process_noise(dt);
-      Matrix3d covariance = last.estimate.covariance() + scale * process_noise;
+      Matrix3d covariance = last.estimate.covariance() + scale.scaled(process_noise);
       if (track.size() >= 2 && adapt_process_noise_ && !innovation_of_object.contains(measurement.object)) {
         const Gaussian3& observed = combined.at(measurement.object);
         innovation_of_object.emplace(

@@ -7,11 +7,12 @@
 //   1. Predict. For each view v and each object i that v measures at t and has tracked before, Φ
 //      predicts x from v's track of i (and v's other tracked objects, the graph of view v); all
 //      views' graphs go through Φ in one batched pass.
-//      P = P̂_last + λ Q(Δt)  (+ (s Δt)² I when the track holds a single position: no velocity yet).
-//      λ (1 unless adapted) scales Q to the data at hand: on data unlike the training data (another
-//      frame rate, other motion) Φ can predict far worse than its Q says, and the innovations show
-//      it; λ is estimated per scene from the innovations of earlier steps (process_noise_scale.hpp),
-//      one per object and step (the views' innovations of an object share its measurements).
+//      P = P̂_last + D Q(Δt) D  (+ (s Δt)² I when the track holds a single position: no velocity yet).
+//      D = diag(√λ) (identity unless adapted) scales Q to the data at hand, per world axis: on data
+//      unlike the training data (another frame rate, other motion) Φ can predict far worse than its
+//      Q says, and the innovations show it; λ is estimated per scene from the innovations of earlier
+//      steps (process_noise_scale.hpp), one per object and step (the views' innovations of an object
+//      share its measurements).
 //      An object v has not tracked before starts diffuse: x = 0, P = 10⁴ I.
 //   2. Update. The multi-view update with the measurements of i by every view at t (shared):
 //      S = P⁻¹ + Σ_u R_u⁻¹, P̂ = S⁻¹, x̂ = P̂ (P⁻¹ x + Σ_u R_u⁻¹ z_u).
@@ -49,8 +50,8 @@ class SpatiotemporalGraphFilter final : public Localizer {
   SpatiotemporalGraphFilter(const MotionPredictor& predictor, const Options& options)
       : predictor_(predictor), registration_(options.registration), adapt_process_noise_(options.adapt_process_noise) {}
 
-  // The current scale λ of Q.
-  double process_noise_scale() const { return process_noise_scale_.scale(); }
+  // The current scales λ of Q, per world axis.
+  const Vector3d& process_noise_scales() const { return process_noise_scale_.scales(); }
 
   std::vector<Gaussian3> step(double time, std::span<const Measurement* const> measurements) override;
 

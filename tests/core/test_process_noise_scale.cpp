@@ -10,7 +10,7 @@ namespace stgf {
 namespace {
 
 // Innovations drawn from N(0, A + true_scale · B) with a fixed A and B.
-double scale_after(double true_scale, int innovations, std::uint64_t seed) {
+Vector3d scales_after(double true_scale, int innovations, std::uint64_t seed) {
   Matrix3d known;
   known << 0.04, 0.01, 0.0, 0.01, 0.03, 0.0, 0.0, 0.0, 0.01;
   Matrix3d process;
@@ -23,24 +23,26 @@ double scale_after(double true_scale, int innovations, std::uint64_t seed) {
     scale.add(factor * Vector3d(normal(random), normal(random), normal(random)), known, process);
   }
   EXPECT_EQ(scale.innovations(), static_cast<std::size_t>(innovations));
-  return scale.scale();
+  return scale.scales();
 }
 
-TEST(ProcessNoiseScale, StartsAtOne) { EXPECT_EQ(ProcessNoiseScale().scale(), 1.0); }
+TEST(ProcessNoiseScale, StartsAtOne) { EXPECT_EQ(ProcessNoiseScale().scales(), Vector3d::Ones()); }
 
 TEST(ProcessNoiseScale, StaysNearOneWhenQIsRight) {
   for (std::uint64_t seed = 1; seed <= 5; ++seed) {
-    const double scale = scale_after(1.0, 400, seed);
-    EXPECT_GE(scale, 1.0);
-    EXPECT_LE(scale, 1.5) << "seed " << seed;
+    const Vector3d scales = scales_after(1.0, 400, seed);
+    EXPECT_GE(scales.minCoeff(), 1.0);
+    EXPECT_LE(scales.head<2>().maxCoeff(), 2.0) << "seed " << seed;
+    // Vertically Q is a tenth of A: the innovations hardly tell λ, and the posterior is wide.
+    EXPECT_LE(scales.z(), 4.0) << "seed " << seed;
   }
 }
 
 TEST(ProcessNoiseScale, FindsAQThatIsTooSmall) {
   for (std::uint64_t seed = 1; seed <= 5; ++seed) {
-    const double scale = scale_after(16.0, 400, seed);
-    EXPECT_GT(scale, 16.0 / 1.5) << "seed " << seed;
-    EXPECT_LT(scale, 16.0 * 1.5) << "seed " << seed;
+    const Vector3d scales = scales_after(16.0, 400, seed);
+    EXPECT_GT(scales.minCoeff(), 16.0 / 2.0) << "seed " << seed;
+    EXPECT_LT(scales.maxCoeff(), 16.0 * 2.0) << "seed " << seed;
   }
 }
 
@@ -48,14 +50,34 @@ TEST(ProcessNoiseScale, NeverShrinksQ) {
   // Innovations much smaller than A says (errors correlated between prediction and measurement).
   ProcessNoiseScale scale;
   for (int k = 0; k < 100; ++k) scale.add(Vector3d::Constant(1e-4), Matrix3d::Identity(), Matrix3d::Identity());
-  EXPECT_EQ(scale.scale(), 1.0);
+  EXPECT_EQ(scale.scales(), Vector3d::Ones());
 }
 
 TEST(ProcessNoiseScale, AFewInnovationsMoveItLittle) {
-  // One innovation of 3 σ of A alone: the prior holds λ well below what that one sample alone suggests.
+  // One innovation of 3 σ of A alone; on its own it says λ = (0.36 − 0.04) / 0.04 = 8. The prior holds
+  // λ below that, and the other axes (innovation 0) stay at 1.
   ProcessNoiseScale scale;
   scale.add(Vector3d(0.6, 0.0, 0.0), 0.04 * Matrix3d::Identity(), 0.04 * Matrix3d::Identity());
-  EXPECT_LT(scale.scale(), 4.0);
+  EXPECT_GT(scale.scales().x(), 1.0);
+  EXPECT_LT(scale.scales().x(), 8.0);
+  EXPECT_EQ(scale.scales().y(), 1.0);
+}
+
+TEST(ProcessNoiseScale, EachAxisOnItsOwn) {
+  // Only the vertical innovations are too large: only the vertical Q grows, and D Q D scales it.
+  std::mt19937_64 random(3);
+  std::normal_distribution<double> normal;
+  ProcessNoiseScale scale;
+  const Matrix3d known = 0.01 * Matrix3d::Identity();
+  const Matrix3d process = 0.01 * Matrix3d::Identity();
+  for (int k = 0; k < 300; ++k) {
+    scale.add(Vector3d(0.14 * normal(random), 0.14 * normal(random), 0.5 * normal(random)), known, process);
+  }
+  EXPECT_LT(scale.scales().head<2>().maxCoeff(), 2.0);
+  EXPECT_GT(scale.scales().z(), 12.0);
+  const Matrix3d scaled = scale.scaled(process);
+  EXPECT_NEAR(scaled(2, 2), 0.01 * scale.scales().z(), 1e-12);
+  EXPECT_NEAR(scaled(0, 0), 0.01 * scale.scales().x(), 1e-12);
 }
 
 TEST(ProcessNoiseScale, RejectsBadInput) {

@@ -122,8 +122,9 @@ TEST(SpatiotemporalGraphFilter, AdaptsQWhenPredictionsAreWorseThanItSays) {
       ++count;
     }
   }
-  EXPECT_GT(adaptive.process_noise_scale(), 100.0);
-  EXPECT_EQ(fixed.process_noise_scale(), 1.0);
+  EXPECT_GT(adaptive.process_noise_scales().x(), 100.0);
+  EXPECT_GT(adaptive.process_noise_scales().y(), 100.0);
+  EXPECT_EQ(fixed.process_noise_scales(), Vector3d::Ones());
   EXPECT_LT(nees_adaptive / count, 6.0);
   EXPECT_GT(nees_fixed / count, 50.0);
 }
