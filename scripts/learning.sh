@@ -49,16 +49,20 @@ done
 cat >> "$report" <<'NOTES'
 
 Commands (per row): `build/stgf train --benchmark build/results/BENCHMARK --out MODEL.pt --input INPUT
---history-noise NOISE --epochs EPOCHS --seed 1 --threads 2`; the benchmark folders are those of
-`scripts/results.sh` (`build/stgf dataset BENCHMARK --out build/results/BENCHMARK --seed 1`).
-The per-epoch log of each run is in `build/learning/*.log`.
+--history-noise NOISE --epochs EPOCHS --seed 1 --threads 2` (training on the scenes at 1, 1/2 and 1/3
+of their frame rate, the default `--strides 1,2,3`; validation at the recorded rate) on
+`build/stgf dataset BENCHMARK --out build/results/BENCHMARK --seed 1` (the same files as
+`stgf reproduce`'s). The Q column is calibrated on Φ's validation residuals; for fused models
+`stgf train` then calibrates Q once more inside the filter (see the logs and
+`stgf/learn/filter_calibration.hpp`), which is the Q the model file keeps. The per-epoch log of
+each run is in `build/learning/*.log`.
 
 ## Reading the table
 
 - Φ beats constant velocity on every validation split, fused and raw.
-- Training on fused histories: the two schemes tie on `mpl`; truth plus matched noise is clearly
-  better on `cad`, so `stgf train --input fused` uses it by default (`--history-noise auto`).
-- On `mpl` the validation error is best after one or two epochs and then rises while the training
+- Training on fused histories: truth plus matched noise is slightly
+  better on both (1% on `mpl`, 1.4% on `cad`), so `stgf train --input fused` uses it by default (`--history-noise auto`).
+- On `mpl` the validation error is best after two to four epochs and then rises while the training
   loss keeps falling: PETS 2009 S2L1 has only 795 frames, so the training split's instances share a
   few hundred distinct windows of the same people, and Φ starts to memorise them. The best epoch is
   what the model file keeps. More varied motion (the `ethucy` benchmark) is the remedy to try.
