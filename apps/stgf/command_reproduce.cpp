@@ -205,35 +205,8 @@ fs::path run_and_write(const std::string& method, const std::string& label, cons
   return file;
 }
 
-// The test scene with the most measurements (ties: the first name), and in it the view with the most.
-std::pair<std::string, std::string> busiest_scene_and_view(const MeasurementFile& measurements) {
-  std::map<std::string, std::size_t> per_scene;
-  for (const Measurement& row : measurements.rows) ++per_scene[row.scene];
-  std::string scene;
-  std::size_t most = 0;
-  for (const auto& [name, count] : per_scene) {
-    if (count > most) {
-      most = count;
-      scene = name;
-    }
-  }
-  std::map<std::string, std::size_t> per_view;
-  for (const Measurement& row : measurements.rows) {
-    if (row.scene == scene) ++per_view[row.view];
-  }
-  std::string view;
-  most = 0;
-  for (const auto& [name, count] : per_view) {
-    if (count > most) {
-      most = count;
-      view = name;
-    }
-  }
-  return {scene, view};
-}
-
 void draw_figures(const std::string& name, const Evaluation& evaluation, const TruthFile& truth,
-                  const MeasurementFile& measurements, const std::map<std::string, fs::path>& estimate_files,
+                  const std::map<std::string, fs::path>& estimate_files,
                   const fs::path& figures, bool draw, std::vector<std::string>& drawn) {
   Evaluation main_methods = evaluation;
   std::erase_if(main_methods.methods, [](const MethodScore& score) { return score.method == kRegistrationOff; });
@@ -241,20 +214,16 @@ void draw_figures(const std::string& name, const Evaluation& evaluation, const T
   write_views_curve(main_methods, figures.string(), views_stem,
                     "DE against the number of views (" + name + " test split, from step 2)");
 
-  const auto [scene, view] = busiest_scene_and_view(measurements);
+  std::vector<EstimateFile> files;
+  for (const std::string method : {"aom", "mmt", "ours-l", "ours"}) {
+    files.push_back(read_estimates(estimate_files.at(method).string()));
+  }
+  const auto [scene, view] = busiest_scene_and_view(files.back().rows);
   std::vector<TruthPoint> scene_truth;
   for (const TruthPoint& point : truth.rows) {
     if (point.scene == scene) scene_truth.push_back(point);
   }
-  std::vector<MethodTrajectory> methods;
-  for (const std::string method : {"aom", "mmt", "ours-l", "ours"}) {
-    const EstimateFile file = read_estimates(estimate_files.at(method).string());
-    MethodTrajectory trajectory{method, {}};
-    for (const Estimate& estimate : file.rows) {
-      if (estimate.scene == scene && estimate.view == view) trajectory.estimates.push_back(estimate);
-    }
-    methods.push_back(std::move(trajectory));
-  }
+  const std::vector<MethodTrajectory> methods = trajectories_of(files, scene, view);
   const std::string trajectory_stem = "trajectories-" + name;
   write_trajectories(scene_truth, methods, figures.string(), trajectory_stem,
                      fmt::format("{} test scene {}, estimates held by {}", name, scene, view));
@@ -307,7 +276,7 @@ BenchmarkResult reproduce_benchmark(const std::string& name, const ReproduceOpti
   result.registration = fused.metadata().value("registration", nlohmann::json::object());
 
   progress.next(draw ? "figures" : "figures: gnuplot not found, writing data and scripts only");
-  draw_figures(name, result.evaluation, truth, measurements, estimate_files, out / "figures", draw, result.figures);
+  draw_figures(name, result.evaluation, truth, estimate_files, out / "figures", draw, result.figures);
   return result;
 }
 

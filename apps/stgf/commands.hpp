@@ -11,5 +11,6 @@ void add_eval_command(CLI::App& app);
 void add_dataset_command(CLI::App& app);
 void add_train_command(CLI::App& app);
 void add_reproduce_command(CLI::App& app);
+void add_plot_command(CLI::App& app);
 
 }  // namespace stgf::cli

@@ -41,7 +41,7 @@ std::string gnuplot_quoted(const std::string& text) {
 // Draws to SVG, then the same plot to PNG.
 std::string script(const std::string& stem, const std::string& settings, const std::string& plot) {
   return fmt::format(
-      "# Drawn by stgf reproduce; run `gnuplot {0}.gp` in this directory to draw it again.\n"
+      "# Drawn by stgf; run `gnuplot {0}.gp` in this directory to draw it again.\n"
       "set terminal svg size 900,560 dynamic enhanced font 'sans,13' background rgb 'white'\n"
       "set output '{0}.svg'\n{1}{2}\n"
       "set terminal pngcairo size 900,560 enhanced font 'sans,11' background rgb 'white'\n"
@@ -105,8 +105,48 @@ void write_views_curve(const Evaluation& evaluation, const std::string& director
   write_text_file((std::filesystem::path(directory) / (stem + ".gp")).string(), script(stem, settings, plot));
 }
 
+std::pair<std::string, std::string> busiest_scene_and_view(std::span<const Estimate> rows) {
+  auto most_common = [](const std::map<std::string, std::size_t>& counts) {
+    std::string name;
+    std::size_t most = 0;
+    for (const auto& [candidate, count] : counts) {
+      if (count > most) {
+        most = count;
+        name = candidate;
+      }
+    }
+    return name;
+  };
+  std::map<std::string, std::size_t> per_scene;
+  for (const Estimate& row : rows) ++per_scene[row.scene];
+  const std::string scene = most_common(per_scene);
+  std::map<std::string, std::size_t> per_view;
+  for (const Estimate& row : rows) {
+    if (row.scene == scene) ++per_view[row.view];
+  }
+  return {scene, most_common(per_view)};
+}
+
+std::vector<MethodTrajectory> trajectories_of(std::span<const EstimateFile> files, const std::string& scene,
+                                              const std::string& view) {
+  std::vector<MethodTrajectory> trajectories;
+  std::map<std::string, std::size_t> index_of;
+  for (const EstimateFile& file : files) {
+    for (std::size_t k = 0; k < file.rows.size(); ++k) {
+      const Estimate& row = file.rows[k];
+      if (row.scene != scene || row.view != view) continue;
+      const std::string& method = file.methods[k];
+      const auto [found, added] = index_of.try_emplace(method, trajectories.size());
+      if (added) trajectories.push_back(MethodTrajectory{method, {}});
+      trajectories[found->second].estimates.push_back(row);
+    }
+  }
+  return trajectories;
+}
+
 void write_trajectories(std::span<const TruthPoint> truth, std::span<const MethodTrajectory> methods,
-                        const std::string& directory, const std::string& stem, const std::string& title) {
+                        const std::string& directory, const std::string& stem, const std::string& title,
+                        std::span<const Measurement> measured) {
   std::filesystem::create_directories(directory);
   // One block per object (a blank line between blocks breaks the line), in time order.
   auto write_paths = [&](const std::string& name, std::map<std::string, std::vector<std::pair<double, Vector3d>>> paths) {
@@ -122,7 +162,14 @@ void write_trajectories(std::span<const TruthPoint> truth, std::span<const Metho
   std::map<std::string, std::vector<std::pair<double, Vector3d>>> truth_paths;
   for (const TruthPoint& point : truth) truth_paths[point.object].emplace_back(point.time, point.position);
   write_paths("truth", truth_paths);
-  std::string plot = fmt::format("plot '{}-truth.dat' with lines lw 4 lc rgb '#303030' title 'truth'", stem);
+  std::string plot = "plot ";
+  if (!measured.empty()) {
+    std::string data = "# x y (m) of the measurements drawn\n";
+    for (const Measurement& row : measured) data += fmt::format("{:.4f} {:.4f}\n", row.position.mean().x(), row.position.mean().y());
+    write_text_file((std::filesystem::path(directory) / (stem + "-measured.dat")).string(), data);
+    plot += fmt::format("'{}-measured.dat' with points pt 7 ps 0.3 lc rgb '#b0b0b0' title 'measured', \\\n     ", stem);
+  }
+  plot += fmt::format("'{}-truth.dat' with lines lw 4 lc rgb '#303030' title 'truth'", stem);
   for (const MethodTrajectory& method : methods) {
     std::map<std::string, std::vector<std::pair<double, Vector3d>>> paths;
     for (const Estimate& estimate : method.estimates) paths[estimate.object].emplace_back(estimate.time, estimate.position.mean());

@@ -1,5 +1,5 @@
 #pragma once
-// The figures of stgf reproduce, drawn by gnuplot. Each figure STEM gets its data (STEM*.dat), the
+// The figures of stgf reproduce and stgf plot, drawn by gnuplot. Each figure STEM gets its data (STEM*.dat), the
 // gnuplot script that draws it (STEM.gp, re-runnable by hand: `cd DIR && gnuplot STEM.gp`), and
 // STEM.svg and STEM.png.
 //   views curve   DE against the number of views that saw the object (paper Fig. 6), a line per
@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "stgf/core/records.hpp"
+#include "stgf/io/estimate_file.hpp"
 #include "stgf/io/evaluation.hpp"
 
 namespace stgf::cli {
@@ -32,8 +33,18 @@ struct MethodTrajectory {
   std::vector<Estimate> estimates;  // one view's estimates in one scene
 };
 
-// Writes the data and script of a trajectory plot to DIRECTORY/STEM.*.
+// The scene with the most rows (ties: the first name), and in it the view with the most.
+std::pair<std::string, std::string> busiest_scene_and_view(std::span<const Estimate> rows);
+
+// The rows of `scene` held by `view`, one trajectory per method (the method column of each file,
+// in the order the methods first appear).
+std::vector<MethodTrajectory> trajectories_of(std::span<const EstimateFile> files, const std::string& scene,
+                                              const std::string& view);
+
+// Writes the data and script of a trajectory plot to DIRECTORY/STEM.*: the true paths, then each
+// method's; `measured` (may be empty) are drawn as small grey points under them.
 void write_trajectories(std::span<const TruthPoint> truth, std::span<const MethodTrajectory> methods,
-                        const std::string& directory, const std::string& stem, const std::string& title);
+                        const std::string& directory, const std::string& stem, const std::string& title,
+                        std::span<const Measurement> measured = {});
 
 }  // namespace stgf::cli

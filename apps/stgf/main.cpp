@@ -29,6 +29,7 @@ int main(int argc, char** argv) {
   stgf::cli::add_reproduce_command(app);
   stgf::cli::add_run_command(app);
   stgf::cli::add_eval_command(app);
+  stgf::cli::add_plot_command(app);
 
   try {
     app.parse(argc, argv);

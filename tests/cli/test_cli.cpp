@@ -15,6 +15,7 @@ namespace {
 
 namespace fs = std::filesystem;
 using ::testing::HasSubstr;
+using ::testing::Not;
 using ::testing::StartsWith;
 
 struct Result {
@@ -87,7 +88,7 @@ const std::string kGoodRows =
 TEST_F(Cli, HelpListsTheCommands) {
   const Result result = stgf("--help");
   EXPECT_EQ(result.status, 0);
-  for (const char* command : {"run", "eval", "dataset"}) EXPECT_THAT(result.out, HasSubstr(command));
+  for (const char* command : {"run", "eval", "dataset", "plot", "reproduce", "train"}) EXPECT_THAT(result.out, HasSubstr(command));
   for (const char* command : {"run --help", "eval --help", "dataset --help", "dataset synthetic --help"}) {
     const Result help = stgf(command);
     EXPECT_EQ(help.status, 0) << command;
@@ -182,6 +183,45 @@ TEST_F(Cli, RunThenEval) {
   EXPECT_THAT(eval.out, HasSubstr("| wls | 3 | 0.0000 |"));
   EXPECT_THAT(eval.out, HasSubstr("| mmt | 3 |"));
   EXPECT_THAT(slurp(directory_ / "r.json"), HasSubstr("\"method\": \"mmt\""));
+}
+
+// stgf plot on any estimate files: both figures with their data and scripts; a bad scene stops it
+// with exit status 2 before anything is drawn.
+TEST_F(Cli, PlotDrawsAnyEstimates) {
+  if (std::system("gnuplot --version >/dev/null 2>&1") != 0) GTEST_SKIP() << "gnuplot is not installed";
+  write("m.csv", kHeader + "s,0,v1,o1,0,0,0,1,0,0,1,0,1\n"
+                           "s,0,v2,o1,1,0,0,1,0,0,1,0,1\n"
+                           "s,0.1,v1,o1,0.1,0,0,1,0,0,1,0,1\n"
+                           "s,0,v1,o2,3,0,0,1,0,0,1,0,1\n"
+                           "s,0.1,v1,o2,3,1,0,1,0,0,1,0,1\n");
+  write("t.csv", "scene,t,object,x,y,z\ns,0,o1,0.5,0,0\ns,0.1,o1,0.1,0,0\ns,0,o2,3,0,0\ns,0.1,o2,3,1,0\n");
+  for (const char* method : {"wls", "mmt"}) {
+    ASSERT_EQ(stgf(std::string("run --method ") + method + " --measurements m.csv --out " + method + ".csv").status, 0);
+  }
+  const Result bad = stgf("plot --truth t.csv --estimates wls.csv --out figures --scene nope");
+  EXPECT_EQ(bad.status, 2);
+  EXPECT_THAT(bad.err, HasSubstr("--scene nope: wls.csv has no estimates in that scene (its scenes: s)"));
+  EXPECT_TRUE(!exists("figures") || fs::is_empty(directory_ / "figures"));
+  EXPECT_EQ(stgf("plot --truth t.csv --estimates wls.csv --out figures --view v9").status, 2);
+  EXPECT_EQ(stgf("plot --truth t.csv --estimates wls.csv --out figures --name a/b").status, 2);
+
+  const Result drawn = stgf("plot --truth t.csv --estimates wls.csv mmt.csv --measurements m.csv --out figures");
+  ASSERT_EQ(drawn.status, 0) << drawn.err;
+  for (const std::string file :
+       {"stgf-trajectories.svg", "stgf-trajectories.png", "stgf-trajectories.gp", "stgf-trajectories-truth.dat",
+        "stgf-trajectories-wls.dat", "stgf-trajectories-mmt.dat", "stgf-trajectories-measured.dat", "stgf-views.svg",
+        "stgf-views.png", "stgf-views.dat"}) {
+    EXPECT_TRUE(exists("figures/" + file)) << file;
+  }
+  // v1 holds the most estimates; its two objects are two blocks of the truth file.
+  EXPECT_THAT(slurp(directory_ / "figures/stgf-trajectories.gp"), HasSubstr("estimates held by v1"));
+  EXPECT_EQ(slurp(directory_ / "figures/stgf-trajectories-truth.dat"),
+            "# x y (m), one block per object: truth\n# object o1\n0.5000 0.0000\n0.1000 0.0000\n\n"
+            "# object o2\n3.0000 0.0000\n3.0000 1.0000\n\n");
+  EXPECT_THAT(slurp(directory_ / "figures/stgf-views.dat"), StartsWith("# views wls mmt"));
+  for (const auto& entry : fs::directory_iterator(directory_ / "figures")) {
+    EXPECT_THAT(entry.path().filename().string(), Not(StartsWith(".stgf-plot"))) << "left its staging folder";
+  }
 }
 
 // The learned methods end to end on a tiny synthetic benchmark: train Φ on fused and on raw
