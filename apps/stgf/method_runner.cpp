@@ -37,7 +37,18 @@ std::vector<Gaussian3> run_named_method(const std::string& method, const MethodC
                                         std::span<const Measurement> rows) {
   if (!is_learned_method(method)) return run_method(method, config, rows);
   if (model == nullptr) throw std::invalid_argument("--method " + method + " needs --model");
-  if (method != "ours") return run_learned_method(method, *model, rows);
+  std::size_t restarted = 0;
+  auto report_restarts = [&] {
+    if (restarted == 0) return;
+    spdlog::info("{}: {} track(s) started again: the object had not been seen for longer than the model's horizon "
+                 "of {:.2f} s (twice the longest interval it trained on)",
+                 method, restarted, model->prediction_horizon());
+  };
+  if (method != "ours") {
+    std::vector<Gaussian3> estimates = run_learned_method(method, *model, rows, &restarted);
+    report_restarts();
+    return estimates;
+  }
   bool missing = false;
   const RegistrationPrior registration = resolve_registration_prior(config.ours, model->metadata(), model_path, &missing);
   if (missing) {
@@ -46,7 +57,11 @@ std::vector<Gaussian3> run_named_method(const std::string& method, const MethodC
                  model_path);
   }
   const SpatiotemporalGraphFilter::Options options{registration, config.ours.adapt_process_noise};
-  return run_localizer([&] { return std::make_unique<SpatiotemporalGraphFilter>(*model, options); }, rows);
+  std::vector<Gaussian3> estimates = run_localizer(
+      [&] { return std::make_unique<SpatiotemporalGraphFilter>(*model, options); }, rows,
+      [&](const Localizer& filter) { restarted += static_cast<const SpatiotemporalGraphFilter&>(filter).restarted_tracks(); });
+  report_restarts();
+  return estimates;
 }
 
 }  // namespace stgf::cli

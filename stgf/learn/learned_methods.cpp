@@ -44,9 +44,11 @@ HistorySource history_source_of_method(const std::string& method) {
 }
 
 std::vector<Gaussian3> run_learned_method(const std::string& method, const MotionModel& model,
-                                          std::span<const Measurement> measurements) {
+                                          std::span<const Measurement> measurements, std::size_t* restarted_tracks) {
   const HistorySource source = history_source_of_method(method);
-  const MotionGraphSet set = make_motion_graph_set(measurements, source, model.shape().history_length + 1);  // positions = intervals + 1
+  const MotionGraphSet set = make_motion_graph_set(measurements, source, model.shape().history_length + 1,  // positions = intervals + 1
+                                                   model.prediction_horizon());
+  if (restarted_tracks != nullptr) *restarted_tracks = set.restarted_tracks;
 
   std::vector<std::vector<Vector3d>> predictions;
   predictions.reserve(set.graphs.size());

@@ -8,6 +8,7 @@
 // has no velocity to go on, so (s_v Δt)² I is added (s_v: the model's typical speed). With no
 // history at all (the first sighting) there is nothing to predict from, and the row gets what the
 // method would start from: its own measurement for sttp, the fused measurement of the step for ours-l.
+// A track unseen for longer than the model's prediction horizon starts again the same way.
 
 #include <span>
 #include <string>
@@ -22,8 +23,10 @@ namespace stgf {
 // sttp needs a model trained on raw histories, ours-l one trained on fused histories.
 HistorySource history_source_of_method(const std::string& method);  // std::invalid_argument otherwise
 
-// One estimate per measurement row, in order.
+// One estimate per measurement row, in order. `restarted_tracks` (if given) receives how many tracks
+// started again after a gap longer than the model's horizon.
 std::vector<Gaussian3> run_learned_method(const std::string& method, const MotionModel& model,
-                                          std::span<const Measurement> measurements);
+                                          std::span<const Measurement> measurements,
+                                          std::size_t* restarted_tracks = nullptr);
 
 }  // namespace stgf

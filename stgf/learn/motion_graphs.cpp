@@ -62,6 +62,7 @@ struct Output {
   std::vector<TrainingGraph> graphs;  // .graph always; the truth fields when truth is given
   std::vector<std::vector<Matrix3d>> latest_covariances;  // when asked for
   std::vector<std::optional<GraphObjectIndex>> predictor_of_row;
+  std::size_t restarted_tracks = 0;
 };
 
 // Builds the graphs scene by scene (see the header for what they hold). Per scene, objects get dense
@@ -70,10 +71,12 @@ struct Output {
 class GraphBuilder {
  public:
   GraphBuilder(std::span<const Measurement> measurements, HistorySource source, int history_length,
-               const TruthIndex* truth, bool latest_covariances)
+               const TruthIndex* truth, bool latest_covariances,
+               double max_gap = std::numeric_limits<double>::infinity())
       : measurements_(measurements),
         source_(source),
         history_length_(static_cast<std::size_t>(history_length)),
+        max_gap_(max_gap),
         truth_(truth),
         latest_covariances_(latest_covariances) {
     if (history_length < 1) {
@@ -173,7 +176,8 @@ class GraphBuilder {
     object_in_graph_.assign(sums_.size(), kNone);
     std::optional<std::size_t> graph_index;
     for (Index sighting = first_sighting; sighting < sightings_.size(); ++sighting) {
-      const std::vector<HistoryEntry>& track = tracks_[sightings_[sighting].object];
+      std::vector<HistoryEntry>& track = tracks_[sightings_[sighting].object];
+      restart_if_stale(track, step);
       if (track.empty()) continue;
       if (!graph_index) graph_index = start_graph(step, std::string_view());
       object_in_graph_[sighting - first_sighting] =
@@ -207,6 +211,7 @@ class GraphBuilder {
       if (track_mark_[track] == step + 1) throw_duplicate(row);
       track_mark_[track] = step + 1;
       track_of_row_[row] = track;
+      restart_if_stale(tracks_[track], step);
       if (!tracks_[track].empty()) ++rows_with_history_[view_slot_[view]];
     }
     graph_of_slot_.assign(step_views_.size(), kNone);
@@ -227,6 +232,13 @@ class GraphBuilder {
       track.push_back(HistoryEntry{sighting_of_row_[row], static_cast<Index>(row)});
     }
     for (Index view : step_views_) view_slot_[view] = kNone;
+  }
+
+  // Empties a track whose last entry is more than max_gap_ before `step`.
+  void restart_if_stale(std::vector<HistoryEntry>& track, Index step) {
+    if (track.empty() || !(scene_->steps[step].time - time_of(track.back().sighting) > max_gap_)) return;
+    track.clear();
+    ++output_.restarted_tracks;
   }
 
   // The track of (view, object) in the current scene, made empty on first use.
@@ -311,6 +323,7 @@ class GraphBuilder {
   std::span<const Measurement> measurements_;
   HistorySource source_;
   std::size_t history_length_;
+  double max_gap_;
   const TruthIndex* truth_;
   bool latest_covariances_;
   Output output_;
@@ -349,13 +362,14 @@ class GraphBuilder {
 }  // namespace
 
 MotionGraphSet make_motion_graph_set(std::span<const Measurement> measurements, HistorySource source,
-                                     int history_length) {
-  Output output = GraphBuilder(measurements, source, history_length, nullptr, true).build();
+                                     int history_length, double max_gap) {
+  Output output = GraphBuilder(measurements, source, history_length, nullptr, true, max_gap).build();
   MotionGraphSet set;
   set.graphs.reserve(output.graphs.size());
   for (TrainingGraph& graph : output.graphs) set.graphs.push_back(std::move(graph.graph));
   set.latest_covariances = std::move(output.latest_covariances);
   set.predictor_of_row = std::move(output.predictor_of_row);
+  set.restarted_tracks = output.restarted_tracks;
   return set;
 }
 

@@ -23,6 +23,9 @@
 //   at some earlier step; its history is (x, τ) at the last min(H, n) of its n earlier fused steps,
 //   with covariance P.
 // H = history_length ≥ 1. A step with no such object gets no graph.
+// Long gaps (make_motion_graph_set's `max_gap`): a track whose last entry is more than max_gap before
+// the step starts again there, empty, as if the object were new (a predictor's horizon, see
+// motion_predictor.hpp); the default, infinity, keeps every track whole.
 //
 // ── Order (deterministic: a function of the row order only) ──────────────────────────────────────
 // Graphs by scene (first appearance), then step time, then view (for kRawView: in the order in which
@@ -46,6 +49,7 @@
 // works on dense indices. Truth is looked up once per (scene, step, object) that a graph needs.
 
 #include <cstddef>
+#include <limits>
 #include <optional>
 #include <span>
 #include <vector>
@@ -77,10 +81,12 @@ struct MotionGraphSet {
   std::vector<std::vector<Matrix3d>> latest_covariances;
   // One entry per measurement row, in list order (see "Rows and graphs" above).
   std::vector<std::optional<GraphObjectIndex>> predictor_of_row;
+  std::size_t restarted_tracks = 0;  // tracks that started again after a gap longer than max_gap
 };
 
 MotionGraphSet make_motion_graph_set(std::span<const Measurement> measurements, HistorySource source,
-                                     int history_length);
+                                     int history_length,
+                                     double max_gap = std::numeric_limits<double>::infinity());
 
 // The graphs alone (make_motion_graph_set(...).graphs).
 std::vector<MotionGraph> make_motion_graphs(std::span<const Measurement> measurements, HistorySource source,

@@ -244,7 +244,11 @@ void MotionModel::Impl::save(const std::string& path, const nlohmann::json& extr
                              torch::optim::Optimizer* optimizer) const {
   nlohmann::json config = {
       {"shape", shape_json(shape)},
-      {"normalisation", {{"speed", normalisation.speed}, {"period", normalisation.period}, {"length", normalisation.length}}},
+      {"normalisation",
+       {{"speed", normalisation.speed},
+        {"period", normalisation.period},
+        {"length", normalisation.length},
+        {"longest_interval", normalisation.longest_interval}}},
       {"process_noise", {{"reference", matrix_json(process_noise_reference)}, {"period", process_noise_period}}},
       {"metadata", extra_metadata.is_null() ? metadata : extra_metadata}};
   torch::serialize::OutputArchive archive;
@@ -296,7 +300,10 @@ MotionModel MotionModel::load(const std::string& path) {
     const nlohmann::json config = nlohmann::json::parse(config_text.toStringRef());
     impl->shape = shape_from(config.at("shape"));
     const auto& n = config.at("normalisation");
-    impl->normalisation = {n.at("speed").get<double>(), n.at("period").get<double>(), n.at("length").get<double>()};
+    impl->normalisation = {n.at("speed").get<double>(), n.at("period").get<double>(), n.at("length").get<double>(),
+                           0.0};
+    // Files written before the horizon was stored: three steps, as `stgf train --strides 1,2,3` trains.
+    impl->normalisation.longest_interval = n.value("longest_interval", 3.0 * impl->normalisation.period);
     impl->process_noise_reference = matrix_from(config.at("process_noise").at("reference"));
     impl->process_noise_period = config.at("process_noise").at("period").get<double>();
     impl->metadata = config.at("metadata");

@@ -29,6 +29,10 @@
 // Inputs are scaled by the training data's typical speed s_v, step period s_t and a length s_p,
 // stored in the model file.
 //
+// Prediction horizon: Φ is trusted to predict across at most kHorizonFactor times the longest
+// interval it trained on (the 99th percentile of the training histories' intervals, which with
+// `stgf train --strides 1,2,3` is three steps); a track unseen for longer starts again.
+//
 // Process noise (DESIGN §1.2): Q is calibrated after training from Φ's one-step residuals
 // r = y − x̂ on the validation split, Q_ref = E[r rᵀ] − E[P_last] (the part of the error the
 // history's own uncertainty does not explain; eigenvalues floored at 1e-6 m²), at the validation
@@ -58,10 +62,15 @@ struct MotionModelShape {
 
 // How inputs are scaled; measured on the training data.
 struct MotionNormalisation {
-  double speed = 1.0;     // s_v (m/s)
-  double period = 0.1;    // s_t (s)
-  double length = 5.0;    // s_p (m)
+  double speed = 1.0;             // s_v (m/s)
+  double period = 0.1;            // s_t (s)
+  double length = 5.0;            // s_p (m)
+  double longest_interval = 0.3;  // the 99th percentile of the training intervals (s)
 };
+
+// Φ predicts across up to this many times the longest interval it trained on (the rate
+// independence of its output is tested at twice and half the training rate).
+inline constexpr double kHorizonFactor = 2.0;
 
 class MotionModel final : public MotionPredictor {
  public:
@@ -86,6 +95,7 @@ class MotionModel final : public MotionPredictor {
   Matrix3d process_noise(double dt) const override;
   int history_positions() const override { return shape().history_length + 1; }
   double typical_speed() const override { return normalisation().speed; }
+  double prediction_horizon() const override { return kHorizonFactor * normalisation().longest_interval; }
   void set_process_noise(const Matrix3d& reference, double reference_period);
 
   const MotionModelShape& shape() const;

@@ -117,8 +117,9 @@ MotionNormalisation measure_normalisation(const std::vector<TrainingGraph>& grap
   MotionNormalisation normalisation;
   if (velocities > 0) normalisation.speed = std::max(0.1, std::sqrt(speed_squares / static_cast<double>(velocities)));
   if (!periods.empty()) {
-    std::nth_element(periods.begin(), periods.begin() + static_cast<std::ptrdiff_t>(periods.size() / 2), periods.end());
+    std::sort(periods.begin(), periods.end());
     normalisation.period = periods[periods.size() / 2];
+    normalisation.longest_interval = periods[(periods.size() - 1) * 99 / 100];
   }
   return normalisation;
 }

@@ -40,7 +40,12 @@ std::vector<Gaussian3> SpatiotemporalGraphFilter::step(double time,
     const auto view = tracks_.find(measurement.view);
     if (view == tracks_.end()) continue;
     const auto track = view->second.find(measurement.object);
-    if (track == view->second.end()) continue;
+    if (track == view->second.end() || track->second.empty()) continue;
+    if (time - track->second.back().time > predictor_.prediction_horizon()) {
+      track->second.clear();  // unseen for too long: starts again, like an object never seen
+      ++restarted_tracks_;
+      continue;
+    }
     const auto [entry, inserted] = graph_of_view.try_emplace(measurement.view, graphs.size());
     if (inserted) graphs.push_back(MotionGraph{measurement.scene, measurement.view, time, {}});
     MotionGraph& graph = graphs[entry->second];
@@ -69,7 +74,7 @@ std::vector<Gaussian3> SpatiotemporalGraphFilter::step(double time,
     const Measurement& measurement = *measurements[row];
     Track& track = tracks_[measurement.view][measurement.object];
     std::optional<Gaussian3> prior;
-    if (const auto& index = prediction_of_row[row]) {
+    if (const auto& index = prediction_of_row[row]) {  // the track is not empty
       // P = P̂_last + Q(Δt), plus the unknown velocity's spread for a single-position track.
       const TrackPoint& last = track.back();
       const double dt = time - last.time;

@@ -23,7 +23,9 @@
 //   3. Feedback. (t, x̂, P̂) is appended to v's track of i (the last line of Algorithm 1), so the
 //      next prediction runs on fused positions.
 // A step with no measurement changes nothing; views may join or leave at any step; an object a
-// view misses for a while keeps its older track, and Φ predicts across the gap from real times.
+// view misses for a while keeps its older track, and Φ predicts across the gap from real times —
+// up to the predictor's horizon (motion_predictor.hpp): an object a view has not seen for longer
+// starts again in that view, diffuse, as if new (counted by restarted_tracks()).
 // The estimate of row (v, i) is view v's fused estimate of i.
 
 #include <deque>
@@ -52,6 +54,8 @@ class SpatiotemporalGraphFilter final : public Localizer {
 
   // The current scales λ of Q, per world axis.
   const Vector3d& process_noise_scales() const { return process_noise_scale_.scales(); }
+  // How many tracks started again after a gap longer than the predictor's horizon.
+  std::size_t restarted_tracks() const { return restarted_tracks_; }
 
   std::vector<Gaussian3> step(double time, std::span<const Measurement* const> measurements) override;
 
@@ -77,6 +81,7 @@ class SpatiotemporalGraphFilter final : public Localizer {
   bool adapt_process_noise_;
   ProcessNoiseScale process_noise_scale_;
   std::vector<std::optional<Prediction>> last_predictions_;
+  std::size_t restarted_tracks_ = 0;
   // view → object → track
   std::map<std::string, std::map<std::string, Track, std::less<>>, std::less<>> tracks_;
 };

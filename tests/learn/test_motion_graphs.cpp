@@ -232,6 +232,25 @@ TEST_P(MotionGraphsBothSources, MissedStepsLeaveAGapWithTheRealTimes) {
   EXPECT_EQ(b.times, (std::vector<double>{0.0, 0.25}));
 }
 
+// With a maximum gap, a track whose last entry is older than it starts again: no graph object at
+// that step (like a first sighting), and the next history begins after the gap.
+TEST_P(MotionGraphsBothSources, GapLongerThanMaxGapStartsTheTrackAgain) {
+  const std::vector<Measurement> rows = {
+      row("s", 0.0, "v", "a", marker(0, 0, 1)), row("s", 0.1, "v", "a", marker(1, 0, 1)),
+      row("s", 0.2, "v", "b", marker(2, 0, 2)), row("s", 0.4, "v", "a", marker(3, 0, 1)),  // 0.3 s: kept
+      row("s", 1.0, "v", "a", marker(4, 0, 1)),                                             // 0.6 s: restarts
+      row("s", 1.1, "v", "a", marker(5, 0, 1)),
+  };
+  const MotionGraphSet whole = make_motion_graph_set(rows, GetParam(), 8);
+  EXPECT_EQ(whole.restarted_tracks, 0u);
+  EXPECT_TRUE(whole.predictor_of_row[4].has_value());
+  const MotionGraphSet set = make_motion_graph_set(rows, GetParam(), 8, 0.5);
+  EXPECT_EQ(set.restarted_tracks, 1u);
+  EXPECT_EQ(history_of(set, 3).times, (std::vector<double>{0.0, 0.1}));
+  EXPECT_FALSE(set.predictor_of_row[4].has_value());
+  EXPECT_EQ(history_of(set, 5).times, (std::vector<double>{1.0}));
+}
+
 TEST_P(MotionGraphsBothSources, TimesAreStepTimesAndStrictlyIncreaseUpToTheTarget) {
   // Rows of one step spread over less than 1e-6 s: every time in a graph is the step's earliest time.
   const std::vector<Measurement> rows = {

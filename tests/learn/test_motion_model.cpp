@@ -16,6 +16,7 @@
 #include "stgf/io/input_error.hpp"
 #include "stgf/learn/motion_network.hpp"
 #include "stgf/learn/motion_training.hpp"
+#include "stgf/learn/motion_training.hpp"
 
 namespace stgf {
 namespace {
@@ -126,7 +127,7 @@ TEST(MotionModel, GradientsReachEveryParameter) {
 }
 
 TEST(MotionModel, SaveThenLoadGivesIdenticalPredictions) {
-  MotionModel model(tiny_shape(), MotionNormalisation{1.3, 0.4, 5.0}, 4);
+  MotionModel model(tiny_shape(), MotionNormalisation{1.3, 0.4, 5.0, 1.2}, 4);
   Matrix3d q;
   q << 0.02, 0.001, 0, 0.001, 0.03, 0, 0, 0, 0.01;
   model.set_process_noise(q, 0.4);
@@ -144,7 +145,25 @@ TEST(MotionModel, SaveThenLoadGivesIdenticalPredictions) {
   EXPECT_LT((loaded.process_noise(0.8) - 4.0 * q).norm(), 1e-15);
   EXPECT_EQ(loaded.metadata().value("input", ""), "fused");
   EXPECT_EQ(loaded.normalisation().speed, 1.3);
+  EXPECT_EQ(loaded.normalisation().longest_interval, 1.2);
+  EXPECT_EQ(loaded.prediction_horizon(), kHorizonFactor * 1.2);
   EXPECT_EQ(loaded.shape().hidden, 8);
+}
+
+// The step period is the median training interval; the horizon's base, the 99th percentile, so one
+// long gap in the training data does not stretch it.
+TEST(MotionModel, NormalisationMeasuresPeriodAndLongestInterval) {
+  ObjectHistory history{"o", {Vector3d::Zero()}, {0.0}};
+  for (int k = 0; k < 101; ++k) {
+    const double dt = k < 50 ? 0.1 : k < 100 ? 0.3 : 10.0;
+    history.times.push_back(history.times.back() + dt);
+    history.positions.push_back(history.positions.back() + Vector3d(dt, 0, 0));  // 1 m/s
+  }
+  const std::vector<TrainingGraph> graphs = {TrainingGraph{MotionGraph{"s", "", history.times.back() + 0.1, {history}}}};
+  const MotionNormalisation normalisation = measure_normalisation(graphs);
+  EXPECT_NEAR(normalisation.speed, 1.0, 1e-9);
+  EXPECT_NEAR(normalisation.period, 0.3, 1e-9);
+  EXPECT_NEAR(normalisation.longest_interval, 0.3, 1e-9);
 }
 
 TEST(MotionModel, BadModelFilesGiveClearErrors) {

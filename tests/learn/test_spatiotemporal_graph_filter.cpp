@@ -95,6 +95,28 @@ TEST(SpatiotemporalGraphFilter, ViewJoiningMidSceneStartsFromTheMeasurements) {
 }
 
 }  // namespace
+// An object a view has not seen for longer than the predictor's horizon starts again in that view:
+// diffuse, so the estimate is the measurement, however far the old track would have extrapolated.
+// Within the horizon the track carries on.
+TEST(SpatiotemporalGraphFilter, TrackUnseenBeyondTheHorizonStartsAgain) {
+  const ConstantVelocityPredictor predictor(0.1, 1.0, /*horizon=*/0.5);
+  SpatiotemporalGraphFilter filter(predictor, {RegistrationPrior{}, false});
+  const Matrix3d r = 0.01 * Matrix3d::Identity();
+  for (int k = 0; k < 3; ++k) step(filter, 0.1 * k, {measurement(0.1 * k, "v", "o", Vector3d(k, 0, 0), r)});  // 10 m/s
+  const auto within = step(filter, 0.6, {measurement(0.6, "v", "o", Vector3d(6, 0, 0), r)});  // 0.4 s later
+  EXPECT_EQ(filter.restarted_tracks(), 0u);
+  EXPECT_LT(within[0].covariance()(0, 0), 0.01);  // the prediction helped
+  const auto beyond = step(filter, 1.2, {measurement(1.2, "v", "o", Vector3d(3, 1, 0), r)});  // 0.6 s later, turned back
+  EXPECT_EQ(filter.restarted_tracks(), 1u);
+  EXPECT_LT((beyond[0].mean() - Vector3d(3, 1, 0)).norm(), 1e-5);
+  EXPECT_NEAR(beyond[0].covariance()(0, 0), 0.01, 1e-7);
+  ASSERT_TRUE(filter.last_predictions()[0] == std::nullopt);
+  // The new track has one position: the next step predicts from it, not from the old track.
+  step(filter, 1.3, {measurement(1.3, "v", "o", Vector3d(3, 1.1, 0), r)});
+  ASSERT_TRUE(filter.last_predictions()[0].has_value());
+  EXPECT_EQ(filter.last_predictions()[0]->track_positions, 1u);
+}
+
 // A predictor far worse than its Q says (constant velocity, tiny Q, an object that turns hard): with
 // adaptation the filter scales Q up and its estimates stay consistent; without, it trusts the
 // predictions and its NEES explodes.
