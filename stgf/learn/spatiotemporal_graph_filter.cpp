@@ -7,11 +7,6 @@
 #include "stgf/core/multi_view_update.hpp"
 
 namespace stgf {
-namespace {
-
-constexpr double kDiffuseVariance = 1e4;  // m², DESIGN §1.5
-
-}  // namespace
 
 std::vector<Gaussian3> SpatiotemporalGraphFilter::step(double time,
                                                        std::span<const Measurement* const> measurements) {
@@ -23,7 +18,7 @@ std::vector<Gaussian3> SpatiotemporalGraphFilter::step(double time,
     rows_of_object[measurement->object].push_back(measurement);
   }
   // One combined measurement per object: corrected for the registration offsets when there are any
-  // to account for, else the information-weighted mean (then only used for the innovation).
+  // to account for, else the information-weighted mean (then used for the innovation and a diffuse start).
   std::unordered_map<std::string_view, Gaussian3> combined;
   for (const auto& [object, rows] : rows_of_object) {
     combined.emplace(object, registration_.active() ? registration_.combine(rows)
@@ -73,7 +68,7 @@ std::vector<Gaussian3> SpatiotemporalGraphFilter::step(double time,
   for (std::size_t row = 0; row < measurements.size(); ++row) {
     const Measurement& measurement = *measurements[row];
     Track& track = tracks_[measurement.view][measurement.object];
-    std::optional<Gaussian3> prior;
+    std::optional<Gaussian3> prior;  // none: diffuse
     if (const auto& index = prediction_of_row[row]) {  // the track is not empty
       // P = P̂_last + Q(Δt), plus the unknown velocity's spread for a single-position track.
       const TrackPoint& last = track.back();
@@ -93,12 +88,11 @@ std::vector<Gaussian3> SpatiotemporalGraphFilter::step(double time,
       }
       prior = Gaussian3::from_covariance(predicted[index->first][index->second], covariance);
       last_predictions_[row] = Prediction{prior->mean(), last.estimate.covariance(), dt, track.size()};
-    } else {
-      prior = Gaussian3::from_covariance(Vector3d::Zero(), kDiffuseVariance * Matrix3d::Identity());
     }
-    const Gaussian3 fused = !registration_.active()
-                                ? multi_view_update(*prior, measurements_of_object.at(measurement.object))
-                                : multi_view_update(*prior, std::span(&combined.at(measurement.object), 1));
+    // The diffuse start is the limit P⁻¹ → 0 of the update: the combined measurement itself.
+    const Gaussian3 fused = !prior                   ? combined.at(measurement.object)
+                            : registration_.active() ? multi_view_update(*prior, std::span(&combined.at(measurement.object), 1))
+                                                     : multi_view_update(*prior, measurements_of_object.at(measurement.object));
     track.push_back(TrackPoint{time, fused});
     if (track.size() > history_limit) track.pop_front();
     estimates.push_back(fused);

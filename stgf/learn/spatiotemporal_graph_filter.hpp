@@ -13,7 +13,10 @@
 //      Q says, and the innovations show it; λ is estimated per scene from the innovations of earlier
 //      steps (process_noise_scale.hpp), one per object and step (the views' innovations of an object
 //      share its measurements).
-//      An object v has not tracked before starts diffuse: x = 0, P = 10⁴ I.
+//      An object v has not tracked before starts diffuse: P⁻¹ = 0, so its estimate is the step's
+//      combined measurement (the information-weighted mean, or the registration-corrected one).
+//      DESIGN §1.5's x = 0, P = 10⁴ I approximates this limit, but not in a world frame far from
+//      its origin: at UTM-sized coordinates (4·10⁶ m) it pulls the first estimate metres towards 0.
 //   2. Update. The multi-view update with the measurements of i by every view at t (shared):
 //      S = P⁻¹ + Σ_u R_u⁻¹, P̂ = S⁻¹, x̂ = P̂ (P⁻¹ x + Σ_u R_u⁻¹ z_u).
 //      With a registration prior (view_registration.hpp), the measurements are first corrected by

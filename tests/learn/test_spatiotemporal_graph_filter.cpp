@@ -40,10 +40,11 @@ TEST(SpatiotemporalGraphFilter, OneViewWithConstantVelocityIsAKalmanFilter) {
   r << 0.04, 0.01, 0, 0.01, 0.09, 0.002, 0, 0.002, 0.02;
   const std::vector<Vector3d> zs = {{1.0, 2.0, 0.0}, {1.4, 2.1, 0.05}, {1.9, 2.3, -0.02}, {2.3, 2.2, 0.0}, {2.8, 2.4, 0.01}};
 
-  // Reference: diffuse start, then predict with the velocity of the last two fused positions.
+  // Reference: diffuse start (P⁻¹ = 0: the first estimate is the measurement), then predict with
+  // the velocity of the last two fused positions.
   std::vector<Vector3d> fused;
-  Vector3d x = Vector3d::Zero();
-  Matrix3d p = 1e4 * Matrix3d::Identity();
+  Vector3d x = zs[0];
+  Matrix3d p = r;
   for (std::size_t k = 0; k < zs.size(); ++k) {
     if (k > 0) {
       const Vector3d velocity = k >= 2 ? Vector3d((fused[k - 1] - fused[k - 2]) / dt) : Vector3d::Zero();
@@ -51,7 +52,7 @@ TEST(SpatiotemporalGraphFilter, OneViewWithConstantVelocityIsAKalmanFilter) {
       p = p + q * dt * dt * Matrix3d::Identity();
       if (k == 1) p += (speed * dt) * (speed * dt) * Matrix3d::Identity();
     }
-    kalman_update(x, p, zs[k], r);
+    if (k > 0) kalman_update(x, p, zs[k], r);
     fused.push_back(x);
     const std::vector<Gaussian3> estimates = step(filter, k * dt, {measurement(k * dt, "v", "o", zs[k], r)});
     ASSERT_EQ(estimates.size(), 1u);
@@ -115,6 +116,38 @@ TEST(SpatiotemporalGraphFilter, TrackUnseenBeyondTheHorizonStartsAgain) {
   step(filter, 1.3, {measurement(1.3, "v", "o", Vector3d(3, 1.1, 0), r)});
   ASSERT_TRUE(filter.last_predictions()[0].has_value());
   EXPECT_EQ(filter.last_predictions()[0]->track_positions, 1u);
+}
+
+// A world frame far from its origin (UTM coordinates) changes nothing: the estimates move with the
+// frame, to the precision of the coordinates, with and without registration handling.
+TEST(SpatiotemporalGraphFilter, EstimatesDoNotDependOnWhereTheWorldOriginIs) {
+  const ConstantVelocityPredictor predictor(0.2, 1.0);
+  const Vector3d origin(512345.0, 4123456.0, 210.0);
+  for (const RegistrationPrior registration : {RegistrationPrior{}, RegistrationPrior{Vector3d(0.2, 0.2, 0.0), 0.5}}) {
+    SpatiotemporalGraphFilter near(predictor, {registration, true}), far(predictor, {registration, true});
+    std::mt19937_64 random(4);
+    std::normal_distribution<double> normal;
+    for (int k = 0; k < 30; ++k) {
+      const double t = 0.1 * k;
+      std::vector<Measurement> rows_near, rows_far;
+      for (const char* view : {"a", "b", "c"}) {
+        for (const char* object : {"o", "p"}) {
+          const Vector3d z = Vector3d(t, object[0] == 'o' ? 0.0 : 2.0, 0.0) +
+                             0.1 * Vector3d(normal(random), normal(random), normal(random));
+          const Matrix3d r = (view[0] == 'a' ? 0.01 : 0.03) * Matrix3d::Identity();
+          if (k == 10 && view[0] == 'b') continue;  // a view missing for a step
+          rows_near.push_back(measurement(t, view, object, z, r));
+          rows_far.push_back(measurement(t, view, object, z + origin, r));
+        }
+      }
+      const auto a = step(near, t, rows_near);
+      const auto b = step(far, t, rows_far);
+      for (std::size_t i = 0; i < a.size(); ++i) {
+        EXPECT_LT((b[i].mean() - origin - a[i].mean()).norm(), 1e-6) << "step " << k;
+        EXPECT_LT((b[i].covariance() - a[i].covariance()).norm(), 1e-9) << "step " << k;
+      }
+    }
+  }
 }
 
 // A predictor far worse than its Q says (constant velocity, tiny Q, an object that turns hard): with
