@@ -6,7 +6,7 @@
 
 #include "stgf/learn/learned_methods.hpp"
 #include "stgf/learn/registration_metadata.hpp"
-#include "stgf/learn/spatiotemporal_graph_filter.hpp"
+#include "stgf/learn/filter_runner.hpp"
 #include "stgf/methods/run_method.hpp"
 
 namespace stgf::cli {
@@ -57,11 +57,10 @@ std::vector<Gaussian3> run_named_method(const std::string& method, const MethodC
                  model_path);
   }
   const SpatiotemporalGraphFilter::Options options{registration, config.ours.adapt_process_noise};
-  std::vector<Gaussian3> estimates = run_localizer(
-      [&] { return std::make_unique<SpatiotemporalGraphFilter>(*model, options); }, rows,
-      [&](const Localizer& filter) { restarted += static_cast<const SpatiotemporalGraphFilter&>(filter).restarted_tracks(); });
+  FilterRun run = run_spatiotemporal_graph_filter(*model, options, rows);
+  restarted = run.restarted_tracks;
   report_restarts();
-  return estimates;
+  return std::move(run.estimates);
 }
 
 }  // namespace stgf::cli

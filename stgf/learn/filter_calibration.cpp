@@ -3,8 +3,7 @@
 #include <algorithm>
 #include <stdexcept>
 
-#include "stgf/core/steps.hpp"
-#include "stgf/learn/spatiotemporal_graph_filter.hpp"
+#include "stgf/learn/filter_runner.hpp"
 
 namespace stgf {
 namespace {
@@ -20,20 +19,13 @@ struct Residual {
 std::vector<Residual> filter_residuals(const MotionModel& model, const RegistrationPrior& registration,
                                        std::span<const Measurement> measurements, std::span<const Vector3d> truth) {
   std::vector<Residual> residuals;
-  std::vector<const Measurement*> step_measurements;
-  for (const Scene& scene : group_into_scenes(measurements)) {
-    SpatiotemporalGraphFilter filter(model, {registration, /*adapt_process_noise=*/false});
-    for (const Step& step : scene.steps) {
-      step_measurements.clear();
-      for (std::size_t row : step.rows) step_measurements.push_back(&measurements[row]);
-      filter.step(step.time, step_measurements);
-      const auto& predictions = filter.last_predictions();
-      for (std::size_t k = 0; k < step.rows.size(); ++k) {
-        const auto& prediction = predictions[k];
-        if (!prediction || prediction->track_positions < 2 || !(prediction->dt > 0.0)) continue;
-        residuals.push_back({truth[step.rows[k]] - prediction->mean, prediction->last_covariance, prediction->dt});
-      }
-    }
+  const FilterRun run = run_spatiotemporal_graph_filter(model, {registration, /*adapt_process_noise=*/false},
+                                                        measurements, /*keep_predictions=*/true);
+  // In the order of the rows (the scenes' order would do as well; this one is simpler to state).
+  for (std::size_t row = 0; row < measurements.size(); ++row) {
+    const auto& prediction = run.predictions[row];
+    if (!prediction || prediction->track_positions < 2 || !(prediction->dt > 0.0)) continue;
+    residuals.push_back({truth[row] - prediction->mean, prediction->last_covariance, prediction->dt});
   }
   return residuals;
 }

@@ -1,6 +1,7 @@
 #include "stgf/learn/spatiotemporal_graph_filter.hpp"
 
 #include <optional>
+#include <stdexcept>
 #include <string_view>
 #include <unordered_map>
 
@@ -10,26 +11,19 @@ namespace stgf {
 
 std::vector<Gaussian3> SpatiotemporalGraphFilter::step(double time,
                                                        std::span<const Measurement* const> measurements) {
-  // Every view's measurements of each object, shared by all views.
-  std::unordered_map<std::string_view, std::vector<Gaussian3>> measurements_of_object;
-  std::unordered_map<std::string_view, std::vector<const Measurement*>> rows_of_object;
-  for (const Measurement* measurement : measurements) {
-    measurements_of_object[measurement->object].push_back(measurement->position);
-    rows_of_object[measurement->object].push_back(measurement);
-  }
-  // One combined measurement per object: corrected for the registration offsets when there are any
-  // to account for, else the information-weighted mean (then used for the innovation and a diffuse start).
-  std::unordered_map<std::string_view, Gaussian3> combined;
-  for (const auto& [object, rows] : rows_of_object) {
-    combined.emplace(object, registration_.active() ? registration_.combine(rows)
-                                                    : information_weighted_mean(measurements_of_object.at(object)));
-  }
+  const std::vector<MotionGraph> graphs = prepare_step(time, measurements);
+  return complete_step(predictor_.predict(graphs));
+}
 
+std::vector<MotionGraph> SpatiotemporalGraphFilter::prepare_step(double time,
+                                                                 std::span<const Measurement* const> measurements) {
+  if (pending_) throw std::logic_error("SpatiotemporalGraphFilter: prepare_step twice without complete_step");
   // The graph of each view: the objects it measures now and has tracked before (views in order of
   // first appearance among the rows, objects in row order).
   std::vector<MotionGraph> graphs;
   std::unordered_map<std::string_view, std::size_t> graph_of_view;
-  std::vector<std::optional<std::pair<std::size_t, std::size_t>>> prediction_of_row(measurements.size());
+  Pending pending{time, {measurements.begin(), measurements.end()}, {}, {}};
+  pending.prediction_of_row.resize(measurements.size());
   for (std::size_t row = 0; row < measurements.size(); ++row) {
     const Measurement& measurement = *measurements[row];
     const auto view = tracks_.find(measurement.view);
@@ -49,10 +43,45 @@ std::vector<Gaussian3> SpatiotemporalGraphFilter::step(double time,
       history.positions.push_back(point.estimate.mean());
       history.times.push_back(point.time);
     }
-    prediction_of_row[row] = std::make_pair(entry->second, graph.objects.size());
+    pending.prediction_of_row[row] = std::make_pair(entry->second, graph.objects.size());
     graph.objects.push_back(std::move(history));
   }
-  const std::vector<std::vector<Vector3d>> predicted = predictor_.predict(graphs);
+  pending.graph_sizes.reserve(graphs.size());
+  for (const MotionGraph& graph : graphs) pending.graph_sizes.push_back(graph.objects.size());
+  pending_ = std::move(pending);
+  return graphs;
+}
+
+std::vector<Gaussian3> SpatiotemporalGraphFilter::complete_step(const std::vector<std::vector<Vector3d>>& predicted) {
+  if (!pending_) throw std::logic_error("SpatiotemporalGraphFilter: complete_step without prepare_step");
+  const Pending pending = std::move(*pending_);
+  pending_.reset();
+  if (predicted.size() != pending.graph_sizes.size()) {
+    throw std::invalid_argument("SpatiotemporalGraphFilter: complete_step needs one prediction per graph");
+  }
+  for (std::size_t g = 0; g < predicted.size(); ++g) {
+    if (predicted[g].size() != pending.graph_sizes[g]) {
+      throw std::invalid_argument("SpatiotemporalGraphFilter: complete_step needs one prediction per graph object");
+    }
+  }
+  const double time = pending.time;
+  const std::span<const Measurement* const> measurements = pending.rows;
+  const auto& prediction_of_row = pending.prediction_of_row;
+
+  // Every view's measurements of each object, shared by all views.
+  std::unordered_map<std::string_view, std::vector<Gaussian3>> measurements_of_object;
+  std::unordered_map<std::string_view, std::vector<const Measurement*>> rows_of_object;
+  for (const Measurement* measurement : measurements) {
+    measurements_of_object[measurement->object].push_back(measurement->position);
+    rows_of_object[measurement->object].push_back(measurement);
+  }
+  // One combined measurement per object: corrected for the registration offsets when there are any
+  // to account for, else the information-weighted mean (then used for the innovation and a diffuse start).
+  std::unordered_map<std::string_view, Gaussian3> combined;
+  for (const auto& [object, rows] : rows_of_object) {
+    combined.emplace(object, registration_.active() ? registration_.combine(rows)
+                                                    : information_weighted_mean(measurements_of_object.at(object)));
+  }
 
   std::vector<Gaussian3> estimates;
   estimates.reserve(measurements.size());

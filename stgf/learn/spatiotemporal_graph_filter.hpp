@@ -62,6 +62,14 @@ class SpatiotemporalGraphFilter final : public Localizer {
 
   std::vector<Gaussian3> step(double time, std::span<const Measurement* const> measurements) override;
 
+  // step() in two halves, so that the filters of many scenes can share one batched pass of the
+  // predictor (filter_runner.hpp): prepare_step returns the graphs to predict (it may restart
+  // tracks); complete_step takes the predictions of exactly those graphs and finishes the step.
+  // step(t, M) = complete_step(predictor.predict(prepare_step(t, M))). The measurements must
+  // outlive complete_step.
+  std::vector<MotionGraph> prepare_step(double time, std::span<const Measurement* const> measurements);
+  std::vector<Gaussian3> complete_step(const std::vector<std::vector<Vector3d>>& predicted);
+
   // What the last step predicted for each of its rows, before the update: nullopt for a row whose
   // view had no track of the object (diffuse start). For calibrating Q in the filter's own regime.
   struct Prediction {
@@ -79,7 +87,16 @@ class SpatiotemporalGraphFilter final : public Localizer {
   };
   using Track = std::deque<TrackPoint>;  // oldest first, at most predictor_.history_positions()
 
+  // What prepare_step leaves for complete_step.
+  struct Pending {
+    double time;
+    std::vector<const Measurement*> rows;
+    std::vector<std::optional<std::pair<std::size_t, std::size_t>>> prediction_of_row;  // (graph, object)
+    std::vector<std::size_t> graph_sizes;
+  };
+
   const MotionPredictor& predictor_;
+  std::optional<Pending> pending_;
   ViewRegistration registration_;
   bool adapt_process_noise_;
   ProcessNoiseScale process_noise_scale_;
