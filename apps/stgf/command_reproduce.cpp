@@ -44,7 +44,7 @@ namespace {
 namespace fs = std::filesystem;
 
 // Bump when training changes in a way that makes older reproduce models stale.
-constexpr int kTrainingRecipeVersion = 3;
+constexpr int kTrainingRecipeVersion = 4;  // 4: exact diffuse start and horizon in the filter-regime Q
 constexpr int kFromStep = 2;
 const char* const kRegistrationOff = "ours-registration-off";
 
