@@ -10,13 +10,13 @@ namespace {
 
 // Graphs per predictor pass: large enough to amortise a pass, small enough to bound its memory.
 constexpr std::size_t kGraphsPerPass = 4096;
+// Scenes advanced together: enough to fill the passes, few enough that their filters' state stays small.
+constexpr std::size_t kScenesPerBlock = 256;
 
-}  // namespace
-
-FilterRun run_spatiotemporal_graph_filter(const MotionPredictor& predictor,
-                                          const SpatiotemporalGraphFilter::Options& options,
-                                          std::span<const Measurement> measurements, bool keep_predictions) {
-  const std::vector<Scene> scenes = group_into_scenes(measurements);
+// Runs scenes[first, last) together, writing their rows' results into `estimates` and `run`.
+void run_block(const MotionPredictor& predictor, const SpatiotemporalGraphFilter::Options& options,
+               std::span<const Measurement> measurements, std::span<const Scene> scenes,
+               std::vector<std::optional<Gaussian3>>& estimates, FilterRun& run, bool keep_predictions) {
   std::vector<std::unique_ptr<SpatiotemporalGraphFilter>> filters;
   filters.reserve(scenes.size());
   std::size_t rounds = 0;
@@ -24,10 +24,6 @@ FilterRun run_spatiotemporal_graph_filter(const MotionPredictor& predictor,
     filters.push_back(std::make_unique<SpatiotemporalGraphFilter>(predictor, options));
     rounds = std::max(rounds, scene.steps.size());
   }
-
-  std::vector<std::optional<Gaussian3>> estimates(measurements.size());
-  FilterRun run;
-  if (keep_predictions) run.predictions.resize(measurements.size());
   std::vector<std::vector<const Measurement*>> rows_of_scene(scenes.size());
   for (std::size_t round = 0; round < rounds; ++round) {
     // Every scene's graphs of this round, in scene order.
@@ -64,9 +60,25 @@ FilterRun run_spatiotemporal_graph_filter(const MotionPredictor& predictor,
       }
     }
   }
+  for (const auto& filter : filters) run.restarted_tracks += filter->restarted_tracks();
+}
+
+}  // namespace
+
+FilterRun run_spatiotemporal_graph_filter(const MotionPredictor& predictor,
+                                          const SpatiotemporalGraphFilter::Options& options,
+                                          std::span<const Measurement> measurements, bool keep_predictions) {
+  const std::vector<Scene> scenes = group_into_scenes(measurements);
+  std::vector<std::optional<Gaussian3>> estimates(measurements.size());
+  FilterRun run;
+  if (keep_predictions) run.predictions.resize(measurements.size());
+  for (std::size_t first = 0; first < scenes.size(); first += kScenesPerBlock) {
+    const std::size_t count = std::min(kScenesPerBlock, scenes.size() - first);
+    run_block(predictor, options, measurements, std::span(scenes).subspan(first, count), estimates, run,
+              keep_predictions);
+  }
   run.estimates.reserve(measurements.size());
   for (const auto& estimate : estimates) run.estimates.push_back(*estimate);
-  for (const auto& filter : filters) run.restarted_tracks += filter->restarted_tracks();
   return run;
 }
 

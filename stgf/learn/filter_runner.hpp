@@ -1,6 +1,6 @@
 #pragma once
 // `ours` over a whole measurement list, fast: one SpatiotemporalGraphFilter per scene, and the
-// scenes advanced together, step k of every scene in one round, so that the predictor sees all of a
+// scenes advanced together in blocks of a few hundred, step k of every scene of a block in one round, so that the predictor sees all of a
 // round's graphs in a few batched passes instead of one small pass per scene and step. Scenes are
 // independent, so the result is that of running each scene's filter alone (run_localizer), up to
 // the floating-point effect of batch size on the predictor's matrix products (about 1e-7 m with
