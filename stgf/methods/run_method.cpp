@@ -16,8 +16,7 @@ std::vector<Gaussian3> run_method(const std::string& name, const MethodConfig& c
 }
 
 std::vector<Gaussian3> run_localizer(const std::function<std::unique_ptr<Localizer>()>& make_scene_localizer,
-                                     std::span<const Measurement> measurements,
-                                     const std::function<void(const Localizer&)>& after_scene) {
+                                     std::span<const Measurement> measurements) {
   std::vector<std::optional<Gaussian3>> estimates(measurements.size());
   std::vector<const Measurement*> step_measurements;
   for (const Scene& scene : group_into_scenes(measurements)) {
@@ -31,7 +30,6 @@ std::vector<Gaussian3> run_localizer(const std::function<std::unique_ptr<Localiz
       }
       for (std::size_t k = 0; k < step.rows.size(); ++k) estimates[step.rows[k]] = step_estimates[k];
     }
-    if (after_scene) after_scene(*localizer);
   }
   std::vector<Gaussian3> result;
   result.reserve(estimates.size());

@@ -12,10 +12,9 @@
 namespace stgf {
 
 // One estimate per measurement row, in the order of `measurements`, from a fresh Localizer made by
-// `make_scene_localizer()` for every scene; `after_scene` (if set) sees each one after its scene.
+// `make_scene_localizer()` for every scene.
 std::vector<Gaussian3> run_localizer(const std::function<std::unique_ptr<Localizer>()>& make_scene_localizer,
-                                     std::span<const Measurement> measurements,
-                                     const std::function<void(const Localizer&)>& after_scene = {});
+                                     std::span<const Measurement> measurements);
 
 // run_localizer with the named model-based method.
 std::vector<Gaussian3> run_method(const std::string& name, const MethodConfig& config,
