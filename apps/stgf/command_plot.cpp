@@ -50,7 +50,6 @@ std::string listed(const std::set<std::string>& names, std::size_t shown = 8) {
 
 // The scene and view to draw: the user's, checked against the first estimates file, or the busiest.
 std::pair<std::string, std::string> chosen_scene_and_view(const PlotOptions& options, const EstimateFile& first) {
-  auto [scene, view] = busiest_scene_and_view(first.rows);
   if (!options.scene.empty()) {
     std::set<std::string> scenes;
     for (const Estimate& row : first.rows) scenes.insert(row.scene);
@@ -58,16 +57,8 @@ std::pair<std::string, std::string> chosen_scene_and_view(const PlotOptions& opt
       throw std::invalid_argument(fmt::format("--scene {}: {} has no estimates in that scene (its scenes: {})",
                                               options.scene, first.path, listed(scenes)));
     }
-    scene = options.scene;
-    const std::vector<Estimate> in_scene = [&] {
-      std::vector<Estimate> rows;
-      for (const Estimate& row : first.rows) {
-        if (row.scene == scene) rows.push_back(row);
-      }
-      return rows;
-    }();
-    view = busiest_scene_and_view(in_scene).second;
   }
+  auto [scene, view] = busiest_scene_and_view(first.rows, options.scene);
   if (!options.view.empty()) {
     std::set<std::string> views;
     for (const Estimate& row : first.rows) {

@@ -11,6 +11,7 @@
 // views, figures, timings), DIR/results.json, and the figures in DIR/figures (SVG and PNG by gnuplot).
 
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <filesystem>
 #include <fstream>
@@ -99,37 +100,26 @@ nlohmann::json benchmark_recipe(const std::string& name, const ReproduceOptions&
   return recipe;
 }
 
+// The seed, source and split sizes of a benchmark's options (MplOptions or CadOptions): --quick's
+// smaller sizes, or --instances when given.
+template <typename BenchmarkOptions>
+BenchmarkOptions sized_options(const ReproduceOptions& options, const std::string& source,
+                               const std::array<int, 3>& quick_instances) {
+  BenchmarkOptions benchmark;
+  benchmark.seed = options.seed;
+  benchmark.source_directory = source;
+  std::array<int, 3> instances = {benchmark.train_instances, benchmark.val_instances, benchmark.test_instances};
+  if (options.quick) instances = quick_instances;
+  if (!options.instances.empty()) instances = {options.instances[0], options.instances[1], options.instances[2]};
+  benchmark.train_instances = instances[0];
+  benchmark.val_instances = instances[1];
+  benchmark.test_instances = instances[2];
+  return benchmark;
+}
+
 Benchmark make_benchmark(const std::string& name, const ReproduceOptions& options) {
-  if (name == "mpl") {
-    MplOptions mpl;
-    mpl.seed = options.seed;
-    mpl.source_directory = options.mpl_source;
-    if (options.quick) {
-      mpl.train_instances = 300;
-      mpl.val_instances = 150;
-      mpl.test_instances = 300;
-    }
-    if (!options.instances.empty()) {
-      mpl.train_instances = options.instances[0];
-      mpl.val_instances = options.instances[1];
-      mpl.test_instances = options.instances[2];
-    }
-    return make_mpl_benchmark(mpl);
-  }
-  CadOptions cad;
-  cad.seed = options.seed;
-  cad.source_directory = options.kitti_source;
-  if (options.quick) {
-    cad.train_instances = 300;
-    cad.val_instances = 100;
-    cad.test_instances = 300;
-  }
-  if (!options.instances.empty()) {
-    cad.train_instances = options.instances[0];
-    cad.val_instances = options.instances[1];
-    cad.test_instances = options.instances[2];
-  }
-  return make_cad_benchmark(cad);
+  if (name == "mpl") return make_mpl_benchmark(sized_options<MplOptions>(options, options.mpl_source, {300, 150, 300}));
+  return make_cad_benchmark(sized_options<CadOptions>(options, options.kitti_source, {300, 100, 300}));
 }
 
 struct Progress {

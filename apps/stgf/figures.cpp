@@ -105,7 +105,8 @@ void write_views_curve(const Evaluation& evaluation, const std::string& director
   write_text_file((std::filesystem::path(directory) / (stem + ".gp")).string(), script(stem, settings, plot));
 }
 
-std::pair<std::string, std::string> busiest_scene_and_view(std::span<const Estimate> rows) {
+std::pair<std::string, std::string> busiest_scene_and_view(std::span<const Estimate> rows,
+                                                           const std::string& given_scene) {
   auto most_common = [](const std::map<std::string, std::size_t>& counts) {
     std::string name;
     std::size_t most = 0;
@@ -117,9 +118,12 @@ std::pair<std::string, std::string> busiest_scene_and_view(std::span<const Estim
     }
     return name;
   };
-  std::map<std::string, std::size_t> per_scene;
-  for (const Estimate& row : rows) ++per_scene[row.scene];
-  const std::string scene = most_common(per_scene);
+  std::string scene = given_scene;
+  if (scene.empty()) {
+    std::map<std::string, std::size_t> per_scene;
+    for (const Estimate& row : rows) ++per_scene[row.scene];
+    scene = most_common(per_scene);
+  }
   std::map<std::string, std::size_t> per_view;
   for (const Estimate& row : rows) {
     if (row.scene == scene) ++per_view[row.view];

@@ -33,8 +33,10 @@ struct MethodTrajectory {
   std::vector<Estimate> estimates;  // one view's estimates in one scene
 };
 
-// The scene with the most rows (ties: the first name), and in it the view with the most.
-std::pair<std::string, std::string> busiest_scene_and_view(std::span<const Estimate> rows);
+// The scene with the most rows (ties: the first name), or `scene` when given, and in it the view
+// with the most.
+std::pair<std::string, std::string> busiest_scene_and_view(std::span<const Estimate> rows,
+                                                           const std::string& scene = {});
 
 // The rows of `scene` held by `view`, one trajectory per method (the method column of each file,
 // in the order the methods first appear).

@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "stgf/learn/filter_calibration.hpp"
+#include "support/tiny_motion_model.hpp"
 
 namespace stgf {
 namespace {
@@ -22,16 +23,7 @@ constexpr int kObjects = 3;
 constexpr int kViews = 3;
 constexpr double kPeriod = 0.1;
 
-MotionModelShape tiny_shape() {
-  MotionModelShape shape;
-  shape.history_length = 4;
-  shape.embedding = 8;
-  shape.hidden = 8;
-  shape.attention_hidden = 4;
-  shape.max_fully_connected = 4;
-  shape.nearest_neighbours = 2;
-  return shape;
-}
+using stgf::testing::tiny_shape;
 
 struct Scenes {
   std::vector<Measurement> measurements;

@@ -16,7 +16,9 @@
 #include "stgf/io/input_error.hpp"
 #include "stgf/learn/motion_network.hpp"
 #include "stgf/learn/motion_training.hpp"
+#include "support/tiny_motion_model.hpp"
 #include "stgf/learn/motion_training.hpp"
+#include "support/tiny_motion_model.hpp"
 
 namespace stgf {
 namespace {
@@ -24,16 +26,7 @@ namespace {
 namespace fs = std::filesystem;
 using ::testing::HasSubstr;
 
-MotionModelShape tiny_shape() {
-  MotionModelShape shape;
-  shape.history_length = 4;
-  shape.embedding = 8;
-  shape.hidden = 8;
-  shape.attention_hidden = 4;
-  shape.max_fully_connected = 4;
-  shape.nearest_neighbours = 2;
-  return shape;
-}
+using stgf::testing::tiny_shape;
 
 // An object on a circle of radius r around c, angular speed ω, phase φ, sampled at `times`.
 ObjectHistory circling(const std::string& id, const Vector3d& centre, double radius, double omega, double phase,
