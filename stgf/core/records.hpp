@@ -20,6 +20,9 @@ struct Measurement {
   std::string object;
   Gaussian3 position;                       // z and its covariance R
   std::optional<Vector3d> sensor_position;  // where the view's sensor was at `time`, when known
+  // When the measurement reached the fuser (seconds, same clock as `time`, >= time), when known: a
+  // fuser processes rows in arrival order, so a row can come after rows measured later than it.
+  std::optional<double> arrival;
 };
 
 // An estimate of one object's position held by one view at one time.
