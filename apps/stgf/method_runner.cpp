@@ -6,7 +6,7 @@
 
 #include "stgf/learn/learned_methods.hpp"
 #include "stgf/learn/registration_metadata.hpp"
-#include "stgf/learn/filter_runner.hpp"
+#include "stgf/methods/filter_runner.hpp"
 #include "stgf/methods/run_method.hpp"
 
 namespace stgf::cli {
@@ -56,7 +56,9 @@ std::vector<Gaussian3> run_named_method(const std::string& method, const MethodC
                  "taken as zero unless set under `ours:` in --config",
                  model_path);
   }
-  const SpatiotemporalGraphFilter::Options options{registration, config.ours.adapt_process_noise};
+  FilterOptions options;
+  options.registration = registration;
+  options.adapt_process_noise = config.ours.adapt_process_noise;
   FilterRun run = run_spatiotemporal_graph_filter(*model, options, rows);
   restarted = run.restarted_tracks;
   report_restarts();

@@ -15,7 +15,7 @@
 
 #include "stgf/learn/motion_model.hpp"
 #include "stgf/learn/registration_metadata.hpp"
-#include "stgf/learn/spatiotemporal_graph_filter.hpp"
+#include "stgf/methods/spatiotemporal_graph_filter.hpp"
 
 int main(int argc, char** argv) {
   using stgf::Gaussian3;
@@ -36,7 +36,9 @@ int main(int argc, char** argv) {
   } else {
     predictor = std::make_unique<stgf::ConstantVelocityPredictor>(0.5, 1.4);
   }
-  stgf::SpatiotemporalGraphFilter filter(*predictor, {registration, /*adapt_process_noise=*/true});  // one filter per scene
+  stgf::FilterOptions options;
+  options.registration = registration;
+  stgf::SpatiotemporalGraphFilter filter(*predictor, options);  // one filter per scene
 
   // Each camera's noise: 5 cm along its good axis, 40 cm along its poor one.
   const Matrix3d east_noise = Vector3d(0.05 * 0.05, 0.4 * 0.4, 0.05 * 0.05).asDiagonal();

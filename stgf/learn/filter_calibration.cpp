@@ -3,7 +3,7 @@
 #include <algorithm>
 #include <stdexcept>
 
-#include "stgf/learn/filter_runner.hpp"
+#include "stgf/methods/filter_runner.hpp"
 
 namespace stgf {
 namespace {
@@ -19,13 +19,15 @@ struct Residual {
 std::vector<Residual> filter_residuals(const MotionModel& model, const RegistrationPrior& registration,
                                        std::span<const Measurement> measurements, std::span<const Vector3d> truth) {
   std::vector<Residual> residuals;
-  const FilterRun run = run_spatiotemporal_graph_filter(model, {registration, /*adapt_process_noise=*/false},
-                                                        measurements, /*keep_predictions=*/true);
+  FilterOptions options;
+  options.registration = registration;
+  options.adapt_process_noise = false;
+  const FilterRun run = run_spatiotemporal_graph_filter(model, options, measurements, /*keep_predictions=*/true);
   // In the order of the rows (the scenes' order would do as well; this one is simpler to state).
   for (std::size_t row = 0; row < measurements.size(); ++row) {
     const auto& prediction = run.predictions[row];
-    if (!prediction || prediction->track_positions < 2 || !(prediction->dt > 0.0)) continue;
-    residuals.push_back({truth[row] - prediction->mean, prediction->last_covariance, prediction->dt});
+    if (!prediction || prediction->history_positions < 2 || !(prediction->interval > 0.0)) continue;
+    residuals.push_back({truth[row] - prediction->mean, prediction->state_covariance, prediction->interval});
   }
   return residuals;
 }

@@ -56,9 +56,18 @@
 
 #include "stgf/core/records.hpp"
 #include "stgf/io/truth_file.hpp"
-#include "stgf/learn/motion_graph.hpp"
+#include "stgf/core/motion_graph.hpp"
 
 namespace stgf {
+
+// A graph with what the objects truly did, for training and validation.
+struct TrainingGraph {
+  MotionGraph graph;
+  std::vector<Vector3d> targets;                        // true position at target_time, per object
+  std::vector<std::vector<Vector3d>> true_histories;    // true positions at the history times
+  std::vector<std::vector<Matrix3d>> history_covariances;  // covariance of each history position
+};
+
 
 enum class HistorySource {
   kRawView,  // one view's own measurements (sttp)

@@ -97,6 +97,8 @@ MotionBatch make_motion_batch(std::span<const MotionGraph> graphs, const MotionM
         motion.push_back(1.0f);
       }
       if (intervals == 0) velocity.setZero();
+      batch.last_velocities.push_back(velocity);
+      batch.last_intervals.push_back(intervals == 0 ? 0.0 : last_interval);
       for (int axis = 0; axis < 3; ++axis) last_velocity.push_back(static_cast<float>(velocity(axis) / normalisation.speed));
       horizon.push_back(static_cast<float>(dt / normalisation.period));
       last_intervals.push_back(static_cast<float>(last_interval / normalisation.period));
@@ -168,6 +170,12 @@ MotionNetworkImpl::MotionNetworkImpl(const MotionModelShape& shape)
 }
 
 torch::Tensor MotionNetworkImpl::forward(const MotionBatch& batch) {
+  // v̂ = v_last + â (Δt_last + Δt) / 2: the head predicts an acceleration â, and v_last, measured
+  // over the last interval, lags the current velocity by half of it.
+  return batch.last_velocity + acceleration(batch) * (0.5 * (batch.last_interval + batch.horizon));
+}
+
+torch::Tensor MotionNetworkImpl::acceleration(const MotionBatch& batch) {
   const torch::Tensor embedded = torch::relu(embed_(batch.motion));                 // [N, H, E]
   const auto [sequence, state] = encoder_(embedded);
   const torch::Tensor motion_embedding = std::get<0>(state).squeeze(0);            // m: [N, hidden]
@@ -177,9 +185,7 @@ torch::Tensor MotionNetworkImpl::forward(const MotionBatch& batch) {
       batch.edge_target, batch.edge_offset);                                        // s: [N, hidden]
   const torch::Tensor input = torch::cat({motion_embedding, spatial, batch.last_velocity}, 1);
   const auto [decoded, decoded_cell] = decoder_(input, std::make_tuple(motion_embedding, cell));
-  // v̂ = v_last + â (Δt_last + Δt) / 2: the head predicts an acceleration â, and v_last, measured
-  // over the last interval, lags the current velocity by half of it.
-  return batch.last_velocity + head_(decoded) * (0.5 * (batch.last_interval + batch.horizon));
+  return head_(decoded);
 }
 
 }  // namespace detail
@@ -352,6 +358,33 @@ std::vector<std::vector<Vector3d>> MotionModel::Impl::positions_from(const detai
     }
   }
   return positions;
+}
+
+std::vector<std::vector<MotionForecast>> MotionModel::Impl::forecasts_from(const detail::MotionBatch& batch,
+                                                                       const torch::Tensor& acceleration) const {
+  // â (m/s²) = s_v / s_t · head; x̂(τ) = p_last + (v_last + â Δt_last / 2) τ + â τ² / 2 (motion_model.hpp).
+  const torch::Tensor a = acceleration.to(torch::kFloat64).contiguous();
+  const double* values = a.data_ptr<double>();
+  const double scale = normalisation.speed / normalisation.period;
+  std::vector<std::vector<MotionForecast>> forecasts(batch.graph_offsets.size() - 1);
+  for (std::size_t g = 0; g + 1 < batch.graph_offsets.size(); ++g) {
+    for (std::size_t i = batch.graph_offsets[g]; i < batch.graph_offsets[g + 1]; ++i) {
+      MotionForecast forecast;
+      forecast.acceleration = scale * Vector3d(values[3 * i], values[3 * i + 1], values[3 * i + 2]);
+      forecast.velocity = batch.last_velocities[i] + 0.5 * batch.last_intervals[i] * forecast.acceleration;
+      forecasts[g].push_back(forecast);
+    }
+  }
+  return forecasts;
+}
+
+std::vector<std::vector<MotionForecast>> MotionModel::forecast(std::span<const MotionGraph> graphs) const {
+  if (graphs.empty()) return {};
+  const detail::MotionBatch batch = detail::make_motion_batch(graphs, impl_->shape, impl_->normalisation);
+  if (batch.last_positions.empty()) return std::vector<std::vector<MotionForecast>>(graphs.size());
+  c10::InferenceMode inference;
+  impl_->network->eval();
+  return impl_->forecasts_from(batch, impl_->network->acceleration(batch));
 }
 
 std::vector<std::vector<Vector3d>> MotionModel::predict(std::span<const MotionGraph> graphs) const {

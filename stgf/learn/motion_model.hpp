@@ -46,8 +46,8 @@
 
 #include <nlohmann/json.hpp>
 
-#include "stgf/learn/motion_graph.hpp"
-#include "stgf/learn/motion_predictor.hpp"
+#include "stgf/core/motion_graph.hpp"
+#include "stgf/core/motion_predictor.hpp"
 
 namespace stgf {
 
@@ -71,6 +71,11 @@ struct MotionNormalisation {
 // Φ predicts across up to this many times the longest interval it trained on (the rate
 // independence of its output is tested at twice and half the training rate).
 inline constexpr double kHorizonFactor = 2.0;
+// Φ's history positions are at least this fraction of its training period apart (motion_predictor.hpp):
+// measurements on asynchronous clocks a few milliseconds apart refine a track's estimate, and a new
+// history position starts once about a training period has passed (0.9, not 1, so that jitter in a
+// stream at the training rate does not skip every other frame).
+inline constexpr double kHistorySpacingFactor = 0.9;
 
 class MotionModel final : public MotionPredictor {
  public:
@@ -90,11 +95,16 @@ class MotionModel final : public MotionPredictor {
   // batched into one forward pass. An object with a single history position gets Φ's prediction
   // with zero velocity input (in practice: the constant-position model plus what its neighbours say).
   std::vector<std::vector<Vector3d>> predict(std::span<const MotionGraph> graphs) const override;
+  // The same prediction as a forecast f(τ) = (v_last + â Δt_last / 2) τ + â τ² / 2, for any τ
+  // (the graphs' target times only need to follow their histories).
+  std::vector<std::vector<MotionForecast>> forecast(std::span<const MotionGraph> graphs) const override;
 
   // Q for a prediction interval of `dt` seconds.
   Matrix3d process_noise(double dt) const override;
   int history_positions() const override { return shape().history_length + 1; }
   double typical_speed() const override { return normalisation().speed; }
+  // kHistorySpacingFactor of the training data's typical period s_t.
+  double history_spacing() const override { return kHistorySpacingFactor * normalisation().period; }
   double prediction_horizon() const override { return kHorizonFactor * normalisation().longest_interval; }
   void set_process_noise(const Matrix3d& reference, double reference_period);
 

@@ -24,6 +24,8 @@ struct MotionBatch {
   // Per object, in double, to turn the predicted velocity into a position.
   std::vector<Vector3d> last_positions;
   std::vector<double> horizons;   // Δt (s)
+  std::vector<Vector3d> last_velocities;  // v_last (m/s), zero without a velocity
+  std::vector<double> last_intervals;     // Δt_last (s), zero without a velocity
   std::vector<std::size_t> graph_offsets;  // first object of each graph; size = graphs + 1
 };
 
@@ -50,6 +52,9 @@ class MotionNetworkImpl : public torch::nn::Module {
   explicit MotionNetworkImpl(const MotionModelShape& shape);
   // The predicted velocity over the coming interval, scaled by s_v: [N, 3].
   torch::Tensor forward(const MotionBatch& batch);
+  // The head's output â in units of s_v / s_t: [N, 3]. It does not depend on the horizon:
+  // forward = last_velocity + acceleration · (last_interval + horizon) / 2.
+  torch::Tensor acceleration(const MotionBatch& batch);
 
  private:
   torch::nn::Linear embed_{nullptr};
@@ -78,6 +83,9 @@ struct MotionModel::Impl {
   // Positions predicted from the network's velocities (double precision).
   std::vector<std::vector<Vector3d>> positions_from(const detail::MotionBatch& batch,
                                                     const torch::Tensor& velocity) const;
+  // Forecasts from the network's accelerations (double precision).
+  std::vector<std::vector<MotionForecast>> forecasts_from(const detail::MotionBatch& batch,
+                                                         const torch::Tensor& acceleration) const;
 };
 
 // Reads the optimizer state stored by Impl::save into `optimizer`; false when the file has none.

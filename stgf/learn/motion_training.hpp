@@ -16,6 +16,7 @@
 #include <string>
 #include <vector>
 
+#include "stgf/learn/motion_graphs.hpp"
 #include "stgf/learn/motion_model.hpp"
 
 namespace stgf {

@@ -1,8 +1,9 @@
-// Running `ours` over many scenes at once (learn/filter_runner.hpp) gives what running each scene's
+// Running `ours` over many scenes at once (methods/filter_runner.hpp) gives what running each scene's
 // filter on its own gives: exactly with a predictor that treats graphs one by one, to single
 // precision with Φ (whose matrix products see other batch sizes).
 
-#include "stgf/learn/filter_runner.hpp"
+#include "stgf/methods/filter_runner.hpp"
+#include "stgf/methods/spatiotemporal_graph_filter.hpp"
 
 #include <gtest/gtest.h>
 

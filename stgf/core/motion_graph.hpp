@@ -1,5 +1,5 @@
 #pragma once
-// What the learned motion model Φ sees (DESIGN §1.1), without LibTorch: at one step, the graph of
+// What a motion model (the learned Φ, or constant velocity) sees (DESIGN §1.1): at one step, the graph of
 // objects one view holds, each with its recent positions, to be predicted at a target time.
 //
 // Histories hold positions and their times, oldest first; the last entry is the latest known
@@ -26,12 +26,5 @@ struct MotionGraph {
   std::vector<ObjectHistory> objects;
 };
 
-// A graph with what the objects truly did, for training and validation.
-struct TrainingGraph {
-  MotionGraph graph;
-  std::vector<Vector3d> targets;                        // true position at target_time, per object
-  std::vector<std::vector<Vector3d>> true_histories;    // true positions at the history times
-  std::vector<std::vector<Matrix3d>> history_covariances;  // covariance of each history position
-};
 
 }  // namespace stgf

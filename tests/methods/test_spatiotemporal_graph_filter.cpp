@@ -1,7 +1,7 @@
 // `ours` as a streaming filter: with one view and a constant-velocity predictor it is exactly a
 // Kalman filter (H = I); steps with no views change nothing; views may join mid-scene.
 
-#include "stgf/learn/spatiotemporal_graph_filter.hpp"
+#include "stgf/methods/spatiotemporal_graph_filter.hpp"
 
 #include <cmath>
 #include <random>
@@ -76,13 +76,20 @@ TEST(SpatiotemporalGraphFilter, StepWithoutViewsChangesNothing) {
   EXPECT_EQ(a[0].covariance(), b[0].covariance());
 }
 
-// A view that joins mid-scene starts diffuse, so its first estimate is (almost exactly) the
-// information-weighted mean of the step's measurements, while the older view fuses its prediction.
+// Per-view tracks (the paper's form): a view that joins mid-scene starts diffuse, so its first
+// estimate is (almost exactly) the information-weighted mean of the step's measurements, while the
+// older view fuses its prediction. With one track per object, both rows get the object's estimate.
 TEST(SpatiotemporalGraphFilter, ViewJoiningMidSceneStartsFromTheMeasurements) {
   const ConstantVelocityPredictor predictor(0.1, 1.0);
-  SpatiotemporalGraphFilter filter(predictor);
+  FilterOptions per_view;
+  per_view.tracks = TrackMode::kPerView;
+  SpatiotemporalGraphFilter filter(predictor, per_view), per_object(predictor);
   const Matrix3d r = 0.04 * Matrix3d::Identity();
-  for (int k = 0; k < 3; ++k) step(filter, 0.1 * k, {measurement(0.1 * k, "a", "o", Vector3d(0.1 * k, 0, 0), r)});
+  for (int k = 0; k < 3; ++k) {
+    for (SpatiotemporalGraphFilter* f : {&filter, &per_object}) {
+      step(*f, 0.1 * k, {measurement(0.1 * k, "a", "o", Vector3d(0.1 * k, 0, 0), r)});
+    }
+  }
   const std::vector<Measurement> rows = {measurement(0.3, "a", "o", Vector3d(0.32, 0, 0), r),
                                          measurement(0.3, "b", "o", Vector3d(0.28, 0.02, 0), r)};
   const std::vector<Gaussian3> estimates = step(filter, 0.3, rows);
@@ -93,6 +100,10 @@ TEST(SpatiotemporalGraphFilter, ViewJoiningMidSceneStartsFromTheMeasurements) {
   // Both views keep tracking from here.
   const auto next = step(filter, 0.4, {measurement(0.4, "b", "o", Vector3d(0.4, 0.01, 0), r)});
   EXPECT_LT(next[0].covariance().trace(), 3 * 0.04);
+
+  const std::vector<Gaussian3> shared = step(per_object, 0.3, rows);
+  EXPECT_EQ(shared[0].mean(), shared[1].mean());
+  EXPECT_EQ(shared[0].covariance(), estimates[0].covariance());  // a's track, with both views fused
 }
 
 }  // namespace
@@ -115,7 +126,7 @@ TEST(SpatiotemporalGraphFilter, TrackUnseenBeyondTheHorizonStartsAgain) {
   // The new track has one position: the next step predicts from it, not from the old track.
   step(filter, 1.3, {measurement(1.3, "v", "o", Vector3d(3, 1.1, 0), r)});
   ASSERT_TRUE(filter.last_predictions()[0].has_value());
-  EXPECT_EQ(filter.last_predictions()[0]->track_positions, 1u);
+  EXPECT_EQ(filter.last_predictions()[0]->history_positions, 1u);
 }
 
 // A world frame far from its origin (UTM coordinates) changes nothing: the estimates move with the

@@ -1,0 +1,353 @@
+#include "stgf/core/scene_filter.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <numeric>
+#include <sstream>
+
+#include "stgf/core/multi_view_update.hpp"
+
+namespace stgf {
+namespace {
+
+std::string seconds(double time) {
+  std::ostringstream text;
+  text.setf(std::ios::fixed);
+  text.precision(6);
+  text << time;
+  return text.str();
+}
+
+bool row_before(const Measurement& a, const Measurement& b) {
+  if (a.object != b.object) return a.object < b.object;
+  return a.view < b.view;
+}
+
+}  // namespace
+
+SceneFilter::SceneFilter(const MotionPredictor& predictor, const FilterOptions& options)
+    : predictor_(predictor),
+      options_(options),
+      state_{{}, ViewRegistration(options.registration), {}, {}, 0},
+      latest_time_(-std::numeric_limits<double>::infinity()) {
+  if (!std::isfinite(options.lag_window) || options.lag_window < 0.0) {
+    throw std::invalid_argument("the lag window must be finite and >= 0 seconds");
+  }
+  if (options_.lag_window > 0.0) checkpoints_.push_back({-std::numeric_limits<double>::infinity(), state_});
+}
+
+SceneFilter::TrackKey SceneFilter::key_of(const Measurement& measurement) const {
+  return {options_.tracks == TrackMode::kPerView ? measurement.view : std::string(), measurement.object};
+}
+
+void SceneFilter::receive(std::span<const Measurement> measurements, std::span<const std::size_t> ids) {
+  if (!request_.empty()) throw std::logic_error("SceneFilter::receive while a forecast request is open");
+  if (measurements.size() != ids.size()) throw std::invalid_argument("SceneFilter::receive needs one id per measurement");
+  // Too late: older than the window (or, without a window, not after the latest time).
+  const auto too_late = [&](double time) {
+    return options_.lag_window > 0.0 ? time < latest_time_ - options_.lag_window
+                                     : time <= latest_time_ + kSameStepTolerance;
+  };
+  for (std::size_t k = 0; k < measurements.size(); ++k) {
+    const Measurement& measurement = measurements[k];
+    if (!std::isfinite(measurement.time)) {
+      throw std::invalid_argument("measurement of object '" + measurement.object + "' by view '" + measurement.view +
+                                  "' has a non-finite time");
+    }
+    if (too_late(measurement.time) && options_.late == LatePolicy::kStop) {
+      throw LateMeasurementError(ids[k], "measured at t = " + seconds(measurement.time) +
+                                             " s, it arrived after the scene had reached t = " + seconds(latest_time_) +
+                                             " s: later than the lag window of " + seconds(options_.lag_window) +
+                                             " s allows");
+    }
+  }
+  // The rest by time into events (rows within kSameStepTolerance of an event's earliest time join it).
+  std::vector<std::size_t> order;
+  for (std::size_t k = 0; k < measurements.size(); ++k) {
+    if (!too_late(measurements[k].time)) order.push_back(k);
+  }
+  std::stable_sort(order.begin(), order.end(),
+                   [&](std::size_t a, std::size_t b) { return measurements[a].time < measurements[b].time; });
+  std::vector<Event> events;
+  for (std::size_t k : order) {
+    if (events.empty() || measurements[k].time - events.back().time > kSameStepTolerance) {
+      events.push_back(Event{measurements[k].time, {}, false});
+    }
+    events.back().rows.push_back(Row{ids[k], measurements[k], false});
+  }
+  // A (view, object) twice at one time, within the call or with what the filter already holds.
+  const auto same_time_event = [&](const std::deque<Event>& list, double time) -> const Event* {
+    for (const Event& event : list) {
+      if (std::abs(event.time - time) <= kSameStepTolerance) return &event;
+    }
+    return nullptr;
+  };
+  for (const Event& event : events) {
+    std::vector<const Measurement*> at_time;
+    for (const Row& row : event.rows) at_time.push_back(&row.measurement);
+    for (const std::deque<Event>* list : {&log_, &queue_}) {
+      if (const Event* held = same_time_event(*list, event.time)) {
+        for (const Row& row : held->rows) at_time.push_back(&row.measurement);
+      }
+    }
+    std::sort(at_time.begin(), at_time.end(), [](const Measurement* a, const Measurement* b) { return row_before(*a, *b); });
+    for (std::size_t k = 1; k < at_time.size(); ++k) {
+      if (at_time[k]->object == at_time[k - 1]->object && at_time[k]->view == at_time[k - 1]->view) {
+        throw std::invalid_argument("view '" + at_time[k]->view + "' measured object '" + at_time[k]->object +
+                                    "' twice at t = " + seconds(event.time) + " s");
+      }
+    }
+  }
+  for (std::size_t k = 0; k < measurements.size(); ++k) {
+    if (too_late(measurements[k].time)) leave_out(measurements[k], ids[k]);
+  }
+  for (Event& event : events) insert(std::move(event));
+}
+
+void SceneFilter::leave_out(const Measurement& measurement, std::size_t id) {
+  const Measurement* alone = &measurement;
+  const Gaussian3 estimate = state_.registration.active() ? state_.registration.combine(std::span(&alone, 1))
+                                                          : measurement.position;
+  results_.push_back(Result{id, estimate, std::nullopt});
+  ++late_measurements_;
+}
+
+void SceneFilter::insert(Event event) {
+  if (event.time <= latest_time_ + kSameStepTolerance) rewind_to(event.time);
+  auto position = queue_.begin();
+  while (position != queue_.end() && position->time < event.time - kSameStepTolerance) ++position;
+  if (position != queue_.end() && std::abs(position->time - event.time) <= kSameStepTolerance) {
+    position->time = std::min(position->time, event.time);
+    for (Row& row : event.rows) position->rows.push_back(std::move(row));
+    position->started = false;
+  } else {
+    position = queue_.insert(position, std::move(event));
+  }
+  std::stable_sort(position->rows.begin(), position->rows.end(),
+                   [](const Row& a, const Row& b) { return row_before(a.measurement, b.measurement); });
+}
+
+void SceneFilter::rewind_to(double time) {
+  // The newest checkpoint from which the events at `time` replay.
+  auto checkpoint = checkpoints_.end();
+  for (auto it = checkpoints_.begin(); it != checkpoints_.end(); ++it) {
+    if (it->time <= time + kSameStepTolerance) checkpoint = it;
+  }
+  if (checkpoint == checkpoints_.end()) throw std::logic_error("SceneFilter: no checkpoint covers a late measurement");
+  state_ = checkpoint->state;
+  while (!log_.empty() && log_.back().time >= checkpoint->time) {
+    log_.back().started = false;
+    queue_.push_front(std::move(log_.back()));
+    log_.pop_back();
+  }
+  checkpoints_.erase(std::next(checkpoint), checkpoints_.end());
+  latest_time_ = log_.empty() ? -std::numeric_limits<double>::infinity() : log_.back().time;
+  ++rewinds_;
+}
+
+bool SceneFilter::advance() {
+  if (!request_.empty()) throw std::logic_error("SceneFilter::advance before the requested forecasts were provided");
+  while (!queue_.empty()) {
+    Event& event = queue_.front();
+    if (!event.started) start(event);
+    if (request_forecasts(event)) return false;
+    process(event);
+    latest_time_ = std::max(latest_time_, event.time);
+    if (options_.lag_window > 0.0) log_.push_back(std::move(event));
+    queue_.pop_front();
+    prune();
+  }
+  return true;
+}
+
+void SceneFilter::start(Event& event) {
+  if (options_.lag_window > 0.0 && event.time - checkpoints_.back().time >= kCheckpointSpacing) {
+    checkpoints_.push_back({event.time, state_});
+  }
+  for (const Row& row : event.rows) {
+    ObjectTrack& track = state_.tracks[key_of(row.measurement)];
+    if (!track.empty() && event.time - track.state().time > predictor_.prediction_horizon()) {
+      track.clear();  // unseen for too long: starts again, like an object never seen
+      ++state_.restarted_tracks;
+    }
+  }
+  event.started = true;
+}
+
+bool SceneFilter::request_forecasts(const Event& event) {
+  std::vector<std::string> groups;  // track groups with a track that needs a forecast
+  for (const Row& row : event.rows) {
+    const TrackKey key = key_of(row.measurement);
+    if (state_.tracks.at(key).needs_forecast() && std::find(groups.begin(), groups.end(), key.first) == groups.end()) {
+      groups.push_back(key.first);
+    }
+  }
+  if (groups.empty()) return false;
+  std::sort(groups.begin(), groups.end());
+  const std::string& scene = event.rows.front().measurement.scene;
+  for (const std::string& group : groups) {
+    MotionGraph& graph = request_.emplace_back(MotionGraph{scene, group, event.time, {}});
+    std::vector<TrackKey>& keys = request_keys_.emplace_back();
+    for (auto it = state_.tracks.lower_bound({group, std::string()}); it != state_.tracks.end() && it->first.first == group;
+         ++it) {
+      const ObjectTrack& track = it->second;
+      if (track.history().empty() || event.time - track.state().time > predictor_.prediction_horizon()) continue;
+      ObjectHistory history{it->first.second, {}, {}};
+      for (const TrackPoint& point : track.history()) {
+        history.positions.push_back(point.estimate.mean());
+        history.times.push_back(point.time);
+      }
+      graph.objects.push_back(std::move(history));
+      keys.push_back(it->first);
+    }
+  }
+  return true;
+}
+
+void SceneFilter::provide_forecasts(const std::vector<std::vector<MotionForecast>>& forecasts) {
+  if (forecasts.size() != request_.size()) throw std::invalid_argument("SceneFilter: one forecast list per requested graph");
+  for (std::size_t g = 0; g < request_.size(); ++g) {
+    if (forecasts[g].size() != request_keys_[g].size()) {
+      throw std::invalid_argument("SceneFilter: one forecast per object of each requested graph");
+    }
+  }
+  for (std::size_t g = 0; g < request_.size(); ++g) {
+    for (std::size_t i = 0; i < request_keys_[g].size(); ++i) {
+      ObjectTrack& track = state_.tracks.at(request_keys_[g][i]);
+      if (track.needs_forecast()) track.set_forecast(forecasts[g][i]);
+    }
+  }
+  request_.clear();
+  request_keys_.clear();
+}
+
+void SceneFilter::learn_from(const RegistrationGroup& group) {
+  std::vector<RegistrationObservation> observations;
+  for (std::size_t k = 0; k < group.measurements.size(); ++k) {
+    const Measurement& measurement = group.measurements[k];
+    observations.push_back(
+        {measurement.view, measurement.position.mean(), measurement.position.covariance(), group.stated_covariances[k]});
+  }
+  state_.registration.learn_object(observations);
+}
+
+void SceneFilter::close_registration_groups(double time) {
+  const double window = options_.tracks == TrackMode::kPerObject ? predictor_.history_spacing() : 0.0;
+  for (auto it = state_.groups.begin(); it != state_.groups.end();) {
+    const double age = time - it->second.start;
+    if (!(age > kSameStepTolerance && age >= window)) {
+      ++it;
+      continue;
+    }
+    learn_from(it->second);
+    it = state_.groups.erase(it);
+  }
+}
+
+void SceneFilter::process(Event& event) {
+  const double time = event.time;
+  close_registration_groups(time);
+  const ProcessNoiseScale scale = state_.process_noise_scale;  // λ from the earlier events
+  struct Innovation {
+    Vector3d value;
+    Matrix3d known_covariance;  // P̂_s + R
+    Matrix3d process_noise;     // Q(τ) − Q(τ_s)
+  };
+  std::vector<Innovation> innovations;
+  const bool registration = state_.registration.active();
+  for (std::size_t first = 0; first < event.rows.size();) {
+    const std::string& object = event.rows[first].measurement.object;
+    std::size_t end = first;
+    while (end < event.rows.size() && event.rows[end].measurement.object == object) ++end;
+    std::vector<const Measurement*> rows;
+    std::vector<Gaussian3> positions;
+    for (std::size_t k = first; k < end; ++k) {
+      rows.push_back(&event.rows[k].measurement);
+      positions.push_back(event.rows[k].measurement.position);
+    }
+    // One combined measurement: corrected for the registration offsets when there are any to account
+    // for, else the information-weighted mean (then used for the innovation and a diffuse start).
+    const Gaussian3 combined = registration ? state_.registration.combine(rows) : information_weighted_mean(positions);
+    std::optional<Innovation> innovation;
+    // kPerObject: one track for all rows; kPerView: one per row.
+    const std::size_t track_count = options_.tracks == TrackMode::kPerObject ? 1 : end - first;
+    for (std::size_t t = 0; t < track_count; ++t) {
+      const TrackKey key = key_of(event.rows[first + t].measurement);
+      ObjectTrack& track = state_.tracks[key];
+      std::optional<TrackPrediction> prediction;
+      if (!track.empty()) prediction = track.predict(time, predictor_, scale);
+      // The diffuse start is the limit P⁻¹ → 0 of the update: the combined measurement itself.
+      const Gaussian3 fused = !prediction   ? combined
+                              : registration ? multi_view_update(prediction->prior, std::span(&combined, 1))
+                                             : multi_view_update(prediction->prior, positions);
+      if (prediction && prediction->history_positions >= 2 && options_.adapt_process_noise && !innovation) {
+        innovation = Innovation{combined.mean() - prediction->prior.mean(),
+                                prediction->state_covariance + combined.covariance(), prediction->process_noise};
+      }
+      track.update(time, fused, predictor_);
+      std::optional<Prediction> reported_prediction;
+      if (prediction) {
+        reported_prediction = Prediction{prediction->prior.mean(), prediction->state_covariance, prediction->interval,
+                                         prediction->history_positions};
+      }
+      const std::size_t row_first = options_.tracks == TrackMode::kPerObject ? first : first + t;
+      const std::size_t row_end = options_.tracks == TrackMode::kPerObject ? end : first + t + 1;
+      for (std::size_t k = row_first; k < row_end; ++k) {
+        Row& row = event.rows[k];
+        if (row.reported) continue;
+        results_.push_back(Result{row.id, fused, reported_prediction});
+        row.reported = true;
+      }
+    }
+    if (innovation) innovations.push_back(*innovation);
+    if (registration) {
+      // The measurements join the object's registration group, moved back to its start along the forecast.
+      RegistrationGroup* group = nullptr;
+      double start = time;
+      Vector3d displacement = Vector3d::Zero();
+      Matrix3d alignment = Matrix3d::Zero();
+      if (options_.tracks == TrackMode::kPerObject) {
+        const ObjectTrack& track = state_.tracks.at(key_of(*rows.front()));
+        start = track.history().back().time;
+        std::tie(displacement, alignment) = track.displacement_since_history(time, predictor_, scale);
+      }
+      auto found = state_.groups.find(object);
+      if (found != state_.groups.end() && std::abs(found->second.start - start) > kSameStepTolerance) {
+        // The track started a new history position before a spacing had passed (it restarted after a
+        // horizon shorter than the spacing): the old group ends here.
+        learn_from(found->second);
+        state_.groups.erase(found);
+        found = state_.groups.end();
+      }
+      if (found == state_.groups.end()) found = state_.groups.emplace(object, RegistrationGroup{start, {}, {}}).first;
+      group = &found->second;
+      for (const Measurement* measurement : rows) {
+        Measurement moved = *measurement;
+        const Matrix3d& stated = measurement->position.covariance();
+        moved.position = Gaussian3::from_covariance(measurement->position.mean() - displacement, stated + alignment);
+        group->measurements.push_back(std::move(moved));
+        group->stated_covariances.push_back(stated);
+      }
+    }
+    first = end;
+  }
+  for (const Innovation& innovation : innovations) {
+    state_.process_noise_scale.add(innovation.value, innovation.known_covariance, innovation.process_noise);
+  }
+}
+
+void SceneFilter::prune() {
+  if (options_.lag_window <= 0.0) return;
+  const double cutoff = latest_time_ - options_.lag_window;
+  while (checkpoints_.size() >= 2 && checkpoints_[1].time <= cutoff) checkpoints_.pop_front();
+  while (!log_.empty() && log_.front().time < checkpoints_.front().time) log_.pop_front();
+}
+
+std::vector<SceneFilter::Result> SceneFilter::take_results() {
+  std::vector<Result> results = std::move(results_);
+  results_.clear();
+  return results;
+}
+
+}  // namespace stgf

@@ -1,0 +1,186 @@
+#pragma once
+// The spatiotemporal graph filter of one scene (DESIGN §1, paper Algorithm 1) in continuous time,
+// for views on their own clocks whose measurements arrive late and out of order. LibTorch-free: the
+// motion model plugs in behind MotionPredictor, and it is asked for forecasts through a request /
+// provide protocol, so that a caller can batch the requests of many scenes into one pass of the
+// model (filter_runner.hpp) or answer them at once (spatiotemporal_graph_filter.hpp).
+//
+// ── Tracks ───────────────────────────────────────────────────────────────────────────────────────
+// kPerObject (default): one track per object (object_track.hpp). Every measurement of the object,
+//   from any view, updates it, and each measurement's estimate is the object's fused estimate at the
+//   measurement's time. Φ reads one graph per scene: every live track.
+// kPerView (the paper's decentralised form): view v keeps its own track of each object it measures,
+//   updated at the times v measures it with every view's measurements of the object at that time.
+//   The estimate of a measurement is its view's track. Φ reads one graph per view.
+//
+// ── Events ───────────────────────────────────────────────────────────────────────────────────────
+// Measurements are grouped by time (within kSameStepTolerance) into events, processed in time order.
+// Processing the event at time t:
+//   1. tracks of its objects not updated for longer than the predictor's horizon start again (counted);
+//   2. tracks about to be predicted need a forecast if their history changed since the last one: the
+//      filter stops and requests one graph per track group (the scene, or the view) holding every live
+//      track (history not empty, state within the horizon of t), and continues once provided;
+//   3. registration groups old enough are learnt from (view_registration.hpp, asynchronous views): in
+//      kPerObject an object's measurements since its last history position, moved back to it along
+//      the forecast, once t is a history spacing past it; in kPerView the measurements of one time;
+//   4. per object, in name order: the event's measurements are combined (registration-corrected, or
+//      the information-weighted mean) and fused with each track's prediction to t (the diffuse start
+//      P⁻¹ = 0 for an empty track gives the combined measurement itself), and the tracks updated;
+//   5. per object with a prediction from a history of two or more positions, the innovation of its
+//      combined measurement teaches the scale of Q (process_noise_scale.hpp).
+// Within an event, rows are taken in (object, view) order, so the result does not depend on the order
+// in which they were given.
+//
+// ── Late and repeated measurements ──────────────────────────────────────────────────────────────
+// Let t* be the latest event time processed. A new measurement at t > t* is queued. One at t ≤ t* but
+// within the lag window (t ≥ t* − lag_window) is incorporated as if it had come in order: the filter
+// goes back to a checkpoint at or before t (kept every kCheckpointSpacing seconds of event time, and as
+// far back as the window needs), and re-processes every later event with the new measurement in its
+// place in time order — one at the same time as an event joins it, so measurements of one time given in
+// separate calls are one multi-view update. The result is exactly that of in-order delivery. Re-processed
+// measurements do not report again: a measurement's estimate is what the filter knew of its object at
+// its time when it was first processed, the answer a live user had. A measurement older than the
+// window is too late: counted, and either left out (its estimate is its own combined measurement, and
+// it changes nothing) or reported by LateMeasurementError (LatePolicy). lag_window = 0 keeps no
+// checkpoints and treats any time at or before t* as too late.
+//
+// ── Cost ─────────────────────────────────────────────────────────────────────────────────────────
+// Φ runs once per new history position of a track (about once per history spacing), whatever the
+// number of views and clocks. A checkpoint copies the scene's state (tracks, registration); a late
+// measurement costs the re-processing of the events since the checkpoint before it.
+
+#include <cstddef>
+#include <deque>
+#include <map>
+#include <optional>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "stgf/core/object_track.hpp"
+#include "stgf/core/process_noise_scale.hpp"
+#include "stgf/core/records.hpp"
+#include "stgf/core/view_registration.hpp"
+
+namespace stgf {
+
+enum class TrackMode { kPerObject, kPerView };
+enum class LatePolicy { kLeaveOut, kStop };
+
+struct FilterOptions {
+  RegistrationPrior registration;           // the views' unstated offsets (zero: none)
+  bool adapt_process_noise = true;          // scale Q online from the innovations (false: λ = 1)
+  TrackMode tracks = TrackMode::kPerObject;
+  double lag_window = 1.0;                  // s: how late a measurement may come and still count
+  LatePolicy late = LatePolicy::kLeaveOut;  // what happens to one that comes later
+};
+
+// Event time between checkpoints (s).
+inline constexpr double kCheckpointSpacing = 0.1;
+
+// A measurement that came later than the lag window allows, under LatePolicy::kStop.
+class LateMeasurementError : public std::runtime_error {
+ public:
+  LateMeasurementError(std::size_t id, const std::string& message) : std::runtime_error(message), id_(id) {}
+  std::size_t id() const { return id_; }  // the id it was given with
+
+ private:
+  std::size_t id_;
+};
+
+class SceneFilter {
+ public:
+  // Throws std::invalid_argument for a negative or non-finite lag window. `predictor` must outlive the filter.
+  SceneFilter(const MotionPredictor& predictor, const FilterOptions& options);
+
+  // Takes measurements that arrived together (any times, views and objects of this scene), each with
+  // an id the caller chooses; ids come back with the estimates. Does not process them: call advance().
+  // Throws std::invalid_argument for a non-finite time or a (view, object, time) given twice, and
+  // LateMeasurementError for a measurement too late under LatePolicy::kStop (nothing is taken then).
+  void receive(std::span<const Measurement> measurements, std::span<const std::size_t> ids);
+
+  // Processes queued events until done (true) or a forecast is needed (false: forecast_request()
+  // lists the graphs; provide_forecasts() answers them, then advance() again).
+  bool advance();
+  const std::vector<MotionGraph>& forecast_request() const { return request_; }
+  void provide_forecasts(const std::vector<std::vector<MotionForecast>>& forecasts);
+
+  // A measurement's result, once processed.
+  struct Prediction {  // what the track predicted for it before the update
+    Vector3d mean;
+    Matrix3d state_covariance;  // P̂_s
+    double interval = 0.0;      // see TrackPrediction
+    std::size_t history_positions = 0;
+  };
+  struct Result {
+    std::size_t id;
+    Gaussian3 estimate;
+    std::optional<Prediction> prediction;  // none: diffuse start, or left out as too late
+  };
+  // The results of measurements processed since the last call, in processing order.
+  std::vector<Result> take_results();
+
+  std::size_t restarted_tracks() const { return state_.restarted_tracks; }
+  std::size_t late_measurements() const { return late_measurements_; }  // too late for the window
+  std::size_t rewinds() const { return rewinds_; }                      // went back for a late measurement
+  const Vector3d& process_noise_scales() const { return state_.process_noise_scale.scales(); }
+  const ViewRegistration& registration() const { return state_.registration; }
+  // The latest event time processed (−∞ before any).
+  double latest_time() const { return latest_time_; }
+
+ private:
+  struct Row {
+    std::size_t id;
+    Measurement measurement;
+    bool reported = false;
+  };
+  struct Event {
+    double time;
+    std::vector<Row> rows;  // (object, view) order
+    bool started = false;   // step 1 done
+  };
+  using TrackKey = std::pair<std::string, std::string>;  // (view or "" in kPerObject, object)
+  struct RegistrationGroup {
+    double start;
+    std::vector<Measurement> measurements;  // moved to `start`; covariance R + alignment
+    std::vector<Matrix3d> stated_covariances;  // R
+  };
+  // Everything a checkpoint restores.
+  struct State {
+    std::map<TrackKey, ObjectTrack> tracks;
+    ViewRegistration registration;
+    ProcessNoiseScale process_noise_scale;
+    std::map<std::string, RegistrationGroup> groups;  // by object
+    std::size_t restarted_tracks = 0;
+  };
+  struct Checkpoint {
+    double time;  // replays the events at or after this time
+    State state;
+  };
+
+  TrackKey key_of(const Measurement& measurement) const;
+  void insert(Event event);
+  void rewind_to(double time);
+  void start(Event& event);
+  bool request_forecasts(const Event& event);
+  void close_registration_groups(double time);
+  void learn_from(const RegistrationGroup& group);
+  void process(Event& event);
+  void prune();
+  void leave_out(const Measurement& measurement, std::size_t id);
+
+  const MotionPredictor& predictor_;
+  FilterOptions options_;
+  State state_;
+  std::deque<Event> queue_;   // to process, time order
+  std::deque<Event> log_;     // processed, time order, back to the oldest checkpoint
+  std::deque<Checkpoint> checkpoints_;  // time order
+  double latest_time_;
+  std::vector<MotionGraph> request_;
+  std::vector<std::vector<TrackKey>> request_keys_;
+  std::vector<Result> results_;
+  std::size_t late_measurements_ = 0;
+  std::size_t rewinds_ = 0;
+};
+
+}  // namespace stgf

@@ -1,0 +1,141 @@
+#include "stgf/methods/filter_runner.hpp"
+
+#include <algorithm>
+#include <memory>
+#include <stdexcept>
+
+#include "stgf/core/steps.hpp"
+
+namespace stgf {
+namespace {
+
+// Graphs per predictor pass: large enough to amortise a pass, small enough to bound its memory.
+constexpr std::size_t kGraphsPerPass = 4096;
+// Scenes advanced together: enough to fill the passes, few enough that their filters' state stays small.
+constexpr std::size_t kScenesPerBlock = 256;
+
+// The deliveries of a scene: groups of row indices, in the order the filter receives them.
+std::vector<std::vector<std::size_t>> deliveries_of(const Scene& scene, std::span<const Measurement> measurements,
+                                                    bool by_arrival) {
+  std::vector<std::vector<std::size_t>> deliveries;
+  if (!by_arrival) {
+    for (const Step& step : scene.steps) deliveries.push_back(step.rows);
+    return deliveries;
+  }
+  std::vector<std::size_t> rows;
+  for (const Step& step : scene.steps) rows.insert(rows.end(), step.rows.begin(), step.rows.end());
+  std::stable_sort(rows.begin(), rows.end(), [&](std::size_t a, std::size_t b) {
+    const Measurement& x = measurements[a];
+    const Measurement& y = measurements[b];
+    if (*x.arrival != *y.arrival) return *x.arrival < *y.arrival;
+    if (x.time != y.time) return x.time < y.time;
+    return a < b;
+  });
+  for (std::size_t row : rows) {
+    if (deliveries.empty() || *measurements[deliveries.back().front()].arrival != *measurements[row].arrival) {
+      deliveries.emplace_back();
+    }
+    deliveries.back().push_back(row);
+  }
+  return deliveries;
+}
+
+struct SceneRun {
+  std::unique_ptr<SceneFilter> filter;
+  std::vector<std::vector<std::size_t>> deliveries;
+  std::size_t next = 0;
+};
+
+void collect(SceneFilter& filter, std::vector<std::optional<Gaussian3>>& estimates, FilterRun& run,
+             bool keep_predictions) {
+  for (SceneFilter::Result& result : filter.take_results()) {
+    estimates[result.id] = result.estimate;
+    if (keep_predictions) run.predictions[result.id] = result.prediction;
+  }
+}
+
+void run_block(const MotionPredictor& predictor, const FilterOptions& options, std::span<const Measurement> measurements,
+               std::span<const Scene> scenes, bool by_arrival, std::vector<std::optional<Gaussian3>>& estimates,
+               FilterRun& run, bool keep_predictions) {
+  std::vector<SceneRun> block;
+  block.reserve(scenes.size());
+  for (const Scene& scene : scenes) {
+    block.push_back({std::make_unique<SceneFilter>(predictor, options), deliveries_of(scene, measurements, by_arrival), 0});
+  }
+  std::vector<Measurement> delivered;
+  for (;;) {
+    // Every scene runs until it waits for forecasts or has nothing left.
+    std::vector<SceneRun*> waiting;
+    std::vector<MotionGraph> graphs;
+    for (SceneRun& scene : block) {
+      for (;;) {
+        const bool done = scene.filter->advance();
+        collect(*scene.filter, estimates, run, keep_predictions);
+        if (!done) {
+          waiting.push_back(&scene);
+          const auto& request = scene.filter->forecast_request();
+          graphs.insert(graphs.end(), request.begin(), request.end());
+          break;
+        }
+        if (scene.next == scene.deliveries.size()) break;
+        const std::vector<std::size_t>& rows = scene.deliveries[scene.next++];
+        delivered.clear();
+        for (std::size_t row : rows) delivered.push_back(measurements[row]);
+        scene.filter->receive(delivered, rows);
+      }
+    }
+    if (waiting.empty()) break;
+    std::vector<std::vector<MotionForecast>> forecasts;
+    forecasts.reserve(graphs.size());
+    for (std::size_t first = 0; first < graphs.size(); first += kGraphsPerPass) {
+      const std::size_t count = std::min(kGraphsPerPass, graphs.size() - first);
+      for (auto& of_graph : predictor.forecast(std::span(graphs).subspan(first, count))) {
+        forecasts.push_back(std::move(of_graph));
+      }
+    }
+    std::size_t next_graph = 0;
+    for (SceneRun* scene : waiting) {
+      const std::size_t count = scene->filter->forecast_request().size();
+      const std::vector<std::vector<MotionForecast>> own(forecasts.begin() + static_cast<std::ptrdiff_t>(next_graph),
+                                                         forecasts.begin() + static_cast<std::ptrdiff_t>(next_graph + count));
+      scene->filter->provide_forecasts(own);
+      next_graph += count;
+    }
+  }
+  for (const SceneRun& scene : block) {
+    run.restarted_tracks += scene.filter->restarted_tracks();
+    run.late_measurements += scene.filter->late_measurements();
+    run.rewinds += scene.filter->rewinds();
+  }
+}
+
+}  // namespace
+
+FilterRun run_spatiotemporal_graph_filter(const MotionPredictor& predictor, const FilterOptions& options,
+                                          std::span<const Measurement> measurements, bool keep_predictions) {
+  const auto with_arrival = std::count_if(measurements.begin(), measurements.end(),
+                                          [](const Measurement& measurement) { return measurement.arrival.has_value(); });
+  if (with_arrival != 0 && static_cast<std::size_t>(with_arrival) != measurements.size()) {
+    throw std::invalid_argument("either every measurement has an arrival time or none has");
+  }
+  const bool by_arrival = with_arrival != 0;
+  FilterOptions scene_options = options;
+  if (!by_arrival) scene_options.lag_window = 0.0;  // steps come in time order: nothing to go back for
+  const std::vector<Scene> scenes = group_into_scenes(measurements);
+  std::vector<std::optional<Gaussian3>> estimates(measurements.size());
+  FilterRun run;
+  if (keep_predictions) run.predictions.resize(measurements.size());
+  for (std::size_t first = 0; first < scenes.size(); first += kScenesPerBlock) {
+    const std::size_t count = std::min(kScenesPerBlock, scenes.size() - first);
+    run_block(predictor, scene_options, measurements, std::span(scenes).subspan(first, count), by_arrival, estimates,
+              run, keep_predictions);
+  }
+  run.estimates.reserve(measurements.size());
+  for (const auto& estimate : estimates) {
+    if (!estimate) throw std::logic_error("run_spatiotemporal_graph_filter: a row got no estimate");
+    run.estimates.push_back(*estimate);
+  }
+  return run;
+}
+
+}  // namespace stgf

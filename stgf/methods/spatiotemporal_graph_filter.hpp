@@ -1,0 +1,61 @@
+#pragma once
+// `ours` as a streaming filter for one scene: the spatiotemporal graph filter (core/scene_filter.hpp)
+// with its motion predictor answering forecast requests at once. Use it in a robot's loop, a ROS
+// callback or a V2X receiver; stgf run uses the batched filter_runner.hpp over files.
+//
+// Rules (core/scene_filter.hpp has the details):
+//   - fuse() takes measurements in any grouping — one at a time, one message per view, a whole step,
+//     several times at once — in the order they arrived. Measurements of one time given in separate
+//     calls are fused as one multi-view update; one older than the latest time fused (a late message)
+//     is fused in its place in time, if within options.lag_window (default 1 s), by going back and
+//     re-filtering; one older than that is counted and left out (its estimate is its own
+//     measurement, corrected for its view's offset) or, with LatePolicy::kStop, throws
+//     LateMeasurementError and changes nothing.
+//   - It returns one estimate per measurement, in the given order: what the filter knows of the
+//     measurement's object at the measurement's time once it is fused (kPerObject: the object's one
+//     fused track; kPerView: the track of the measurement's view).
+//   - Times are seconds on one clock shared by the views (stamp each message with its measurement
+//     time, not its arrival time); they need not be regular.
+//   - Bad input throws std::invalid_argument and changes nothing: a non-finite time, a (view, object)
+//     twice at one time. A Measurement's Gaussian3 was checked when it was made. The filter never
+//     produces a NaN: every covariance it builds is a sum of validated ones and positive
+//     semi-definite process noise, inverted by Cholesky.
+
+#include <optional>
+#include <span>
+#include <vector>
+
+#include "stgf/core/scene_filter.hpp"
+#include "stgf/methods/localizer.hpp"
+
+namespace stgf {
+
+class SpatiotemporalGraphFilter final : public Localizer {
+ public:
+  using Options = FilterOptions;
+
+  // `predictor` must outlive the filter.
+  explicit SpatiotemporalGraphFilter(const MotionPredictor& predictor, const Options& options = Options{})
+      : predictor_(predictor), filter_(predictor, options) {}
+
+  // Fuses measurements that arrived together; one estimate each, in order.
+  std::vector<Gaussian3> fuse(std::span<const Measurement> measurements);
+
+  // Localizer: the measurements of one time (a step).
+  std::vector<Gaussian3> step(double time, std::span<const Measurement* const> measurements) override;
+
+  // What the last fuse() or step() predicted for each of its measurements before the update: none for
+  // a diffuse start (a new track) or a measurement left out as too late.
+  const std::vector<std::optional<SceneFilter::Prediction>>& last_predictions() const { return last_predictions_; }
+  std::size_t restarted_tracks() const { return filter_.restarted_tracks(); }
+  std::size_t late_measurements() const { return filter_.late_measurements(); }
+  const Vector3d& process_noise_scales() const { return filter_.process_noise_scales(); }
+  const ViewRegistration& registration() const { return filter_.registration(); }
+
+ private:
+  const MotionPredictor& predictor_;
+  SceneFilter filter_;
+  std::vector<std::optional<SceneFilter::Prediction>> last_predictions_;
+};
+
+}  // namespace stgf
