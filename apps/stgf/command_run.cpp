@@ -8,7 +8,9 @@
 
 #include "commands.hpp"
 #include "method_runner.hpp"
+#include "stgf/core/scene_filter.hpp"
 #include "stgf/core/steps.hpp"
+#include "stgf/io/input_error.hpp"
 #include "stgf/io/estimate_file.hpp"
 #include "stgf/io/measurement_file.hpp"
 #include "stgf/io/method_config_file.hpp"
@@ -30,8 +32,12 @@ void run(const RunOptions& options) {
   std::optional<MotionModel> model;
   if (is_learned_method(options.method)) model = load_model_for(options.method, options.model);
   MeasurementFile measurements = read_measurements(options.measurements);
-  const std::vector<Gaussian3> positions =
-      run_named_method(options.method, config, model ? &*model : nullptr, options.model, measurements.rows);
+  std::vector<Gaussian3> positions;
+  try {
+    positions = run_named_method(options.method, config, model ? &*model : nullptr, options.model, measurements.rows);
+  } catch (const LateMeasurementError& late) {
+    throw InputError(options.measurements, measurements.lines.at(late.id()), late.what());
+  }
   std::size_t steps = 0;
   const std::vector<Scene> scenes = group_into_scenes(measurements.rows);
   for (const Scene& scene : scenes) steps += scene.steps.size();

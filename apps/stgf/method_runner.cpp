@@ -59,9 +59,22 @@ std::vector<Gaussian3> run_named_method(const std::string& method, const MethodC
   FilterOptions options;
   options.registration = registration;
   options.adapt_process_noise = config.ours.adapt_process_noise;
+  options.tracks = config.ours.per_view_tracks ? TrackMode::kPerView : TrackMode::kPerObject;
+  options.lag_window = config.ours.lag_window;
+  options.late = config.ours.stop_on_late ? LatePolicy::kStop : LatePolicy::kLeaveOut;
   FilterRun run = run_spatiotemporal_graph_filter(*model, options, rows);
   restarted = run.restarted_tracks;
   report_restarts();
+  if (run.rewinds > 0) {
+    spdlog::info("{}: {} late row(s) fused in their place in time (arrived after later ones, within the lag window "
+                 "of {} s)",
+                 method, run.rewinds, options.lag_window);
+  }
+  if (run.late_measurements > 0) {
+    spdlog::warn("{}: {} row(s) arrived more than the lag window of {} s late and were left out of the fusion "
+                 "(each row's estimate is its own measurement)",
+                 method, run.late_measurements, options.lag_window);
+  }
   return std::move(run.estimates);
 }
 

@@ -29,10 +29,13 @@ struct ReproduceSummary {
   int epochs = 0;
   int from_step = 0;
   std::string registration_off_label;  // the method name of `ours` without registration handling
+  std::string per_view_label;          // the method name of `ours` with per-view tracks
+  std::vector<std::string> variant_labels() const { return {registration_off_label, per_view_label}; }
 };
 
 // Table I: one row per method (paper order, then wls), DE / REL-DE / NEES / NEES in 95% per benchmark.
-std::string table_one_markdown(const std::vector<BenchmarkResult>& results, const std::string& registration_off_label);
+// Variants of `ours` follow, not bolded.
+std::string table_one_markdown(const std::vector<BenchmarkResult>& results, const std::vector<std::string>& variants);
 
 std::string results_markdown(const ReproduceSummary& summary, const std::vector<BenchmarkResult>& results);
 nlohmann::json results_json(const ReproduceSummary& summary, const std::vector<BenchmarkResult>& results);

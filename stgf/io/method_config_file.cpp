@@ -88,6 +88,20 @@ void read_ours(const std::string& path, const YAML::Node& node, OursSettings& se
       }
     } else if (key == "registration_noise_ratio") {
       settings.noise_ratio = non_negative_number(path, name, entry.second);
+    } else if (key == "tracks") {
+      const std::string value = entry.second.IsScalar() ? entry.second.as<std::string>() : std::string();
+      if (value != "per-object" && value != "per-view") {
+        throw InputError(path, line_of(entry.second), name + " must be per-object or per-view");
+      }
+      settings.per_view_tracks = value == "per-view";
+    } else if (key == "lag_window_s") {
+      settings.lag_window = non_negative_number(path, name, entry.second);
+    } else if (key == "late_measurements") {
+      const std::string value = entry.second.IsScalar() ? entry.second.as<std::string>() : std::string();
+      if (value != "leave-out" && value != "stop") {
+        throw InputError(path, line_of(entry.second), name + " must be leave-out or stop");
+      }
+      settings.stop_on_late = value == "stop";
     } else {
       throw InputError(path, line_of(entry.first), "unknown setting '" + name + "'");
     }
