@@ -49,6 +49,7 @@ class SpatiotemporalGraphFilter final : public Localizer {
   const std::vector<std::optional<SceneFilter::Prediction>>& last_predictions() const { return last_predictions_; }
   std::size_t restarted_tracks() const { return filter_.restarted_tracks(); }
   std::size_t late_measurements() const { return filter_.late_measurements(); }
+  std::size_t rewinds() const { return filter_.rewinds(); }  // went back in time for a late measurement
   const Vector3d& process_noise_scales() const { return filter_.process_noise_scales(); }
   const ViewRegistration& registration() const { return filter_.registration(); }
 
