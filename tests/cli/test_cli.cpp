@@ -183,6 +183,14 @@ TEST_F(Cli, RunThenEval) {
   EXPECT_THAT(eval.out, HasSubstr("| wls | 3 | 0.0000 |"));
   EXPECT_THAT(eval.out, HasSubstr("| mmt | 3 |"));
   EXPECT_THAT(slurp(directory_ / "r.json"), HasSubstr("\"method\": \"mmt\""));
+
+  const Result from_time = stgf("eval --truth t.csv --measurements m.csv --estimates wls.csv --from-time 0.1");
+  ASSERT_EQ(from_time.status, 0) << from_time.err;
+  EXPECT_THAT(from_time.out, HasSubstr("| wls | 1 |"));
+  const Result both = stgf("eval --truth t.csv --measurements m.csv --estimates wls.csv --from-step 1 --from-time 0.1");
+  EXPECT_EQ(both.status, 2);
+  EXPECT_THAT(both.err, HasSubstr("--from-time"));
+  EXPECT_EQ(stgf("eval --truth t.csv --measurements m.csv --estimates wls.csv --from-time -1").status, 2);
 }
 
 // stgf plot on any estimate files: both figures with their data and scripts; a bad scene stops it
