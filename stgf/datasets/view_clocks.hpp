@@ -96,7 +96,8 @@ using TrackBeyondWindow =
 // benchmark's root stream, RandomStream(seed). Returns the split's entry of the description's
 // "clocks" → "splits" (counts and a summary of the phases, jitters and latencies); null when the
 // options are not active (and the split is left as it was). Throws std::invalid_argument for bad
-// options or when two rows of a (scene, view, object) share a frame.
+// options, when two rows of a (scene, view, object) share a frame, or (asynchronous) when a measured
+// object has no truth rows in its scene.
 nlohmann::json apply_view_clocks(BenchmarkSplit& split, const ViewClockOptions& options, double frame_period_s,
                                  const RandomStream& root, const TrackBeyondWindow& track_beyond_window = {});
 
