@@ -1,4 +1,5 @@
 // stgf dataset synthetic|mpl|cad|ethucy --out DIR [--seed S] [options of each builder]
+//              [--asynchronous [--jitter S]] [--latency S]
 
 #include <chrono>
 
@@ -29,6 +30,22 @@ void build_and_write(const std::string& out, const Make& make) {
   log_counts(out, benchmark, std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
 }
 
+// --asynchronous, --jitter, --latency: the same for every builder (stgf/datasets/view_clocks.hpp).
+void add_clock_options(CLI::App& command, ViewClockOptions& clocks) {
+  CLI::Option* asynchronous = command.add_flag(
+      "--asynchronous", clocks.asynchronous,
+      "each view measures on its own clock: a phase in [0, T) per view and scene (T = the frame period) plus a "
+      "jitter per message; positions move with their objects, and the truth is given at every measured time");
+  command.add_option("--jitter", clocks.jitter_s, "σ of each message's timing jitter (s; needs --asynchronous; below T/10)")
+      ->capture_default_str()
+      ->needs(asynchronous);
+  command
+      .add_option("--latency", clocks.latency_s,
+                  "messages reach the fuser up to S s after they were measured (uniform): adds the arrival column "
+                  "(s; 0 = none)")
+      ->capture_default_str();
+}
+
 void add_synthetic(CLI::App& dataset) {
   struct Options {
     std::string out;
@@ -48,6 +65,7 @@ void add_synthetic(CLI::App& dataset) {
       ->capture_default_str()
       ->check(CLI::PositiveNumber);
   command->add_option("--rate", s.rate_hz, "steps per second (Hz)")->capture_default_str()->check(CLI::PositiveNumber);
+  add_clock_options(*command, s.clocks);
   command->callback([options] { build_and_write(options->out, [&] { return make_synthetic_benchmark(options->synthetic); }); });
 }
 
@@ -89,6 +107,7 @@ void add_mpl(CLI::App& dataset) {
   command->add_option("--calibration-translation-m", m.calibration_translation_error_m,
                       "σ per axis of each camera's position error (m; not in R; 0 = off)")
       ->capture_default_str();
+  add_clock_options(*command, m.clocks);
   command->callback([options] { build_and_write(options->out, [&] { return make_mpl_benchmark(options->mpl); }); });
 }
 
@@ -136,6 +155,7 @@ void add_cad(CLI::App& dataset) {
   command->add_option("--gps-heading-error", c.gps_heading_error_deg,
                       "σ of each vehicle's heading error (degrees; not in R; 0 = off)")
       ->capture_default_str();
+  add_clock_options(*command, c.clocks);
   command->callback([options] { build_and_write(options->out, [&] { return make_cad_benchmark(options->cad); }); });
 }
 
@@ -168,6 +188,7 @@ void add_ethucy(CLI::App& dataset) {
   command->add_option("--registration-bias", e.registration_bias_m,
                       "σ of each camera's registration offset per instance (m; not in R; 0 = off)")
       ->capture_default_str();
+  add_clock_options(*command, e.clocks);
   command->callback([options] { build_and_write(options->out, [&] { return make_ethucy_benchmark(options->ethucy); }); });
 }
 

@@ -1,4 +1,4 @@
-// stgf eval --truth T --estimates E [E2 ...] [--measurements M] [--from-step K] [--json OUT]
+// stgf eval --truth T --estimates E [E2 ...] [--measurements M] [--from-step K | --from-time S] [--json OUT]
 
 #include <cstdio>
 
@@ -14,7 +14,7 @@ struct EvalOptions {
   std::string truth;
   std::vector<std::string> estimates;
   std::string measurements;
-  int from_step = 0;
+  ScoringStart start;
   std::string json;
 };
 
@@ -25,7 +25,7 @@ void eval(const EvalOptions& options) {
   std::optional<MeasurementFile> measurements;
   if (!options.measurements.empty()) measurements = read_measurements(options.measurements);
   const Evaluation evaluation =
-      evaluate(truth, estimates, measurements ? &*measurements : nullptr, options.from_step);
+      evaluate(truth, estimates, measurements ? &*measurements : nullptr, options.start);
   if (!options.json.empty()) write_text_file(options.json, evaluation_json(evaluation).dump(2) + "\n");
   std::fputs(evaluation_markdown(evaluation).c_str(), stdout);
 }
@@ -42,8 +42,15 @@ void add_eval_command(CLI::App& app) {
   command->add_option("--measurements", options->measurements,
                       "the measurements the estimates came from: fixes the scored rows, counts views, gives sensor "
                       "positions for REL-DE");
-  command->add_option("--from-step", options->from_step, "leave out each scene's first K steps (for every method)")
-      ->check(CLI::NonNegativeNumber);
+  CLI::Option* from_step =
+      command->add_option("--from-step", options->start.from_step, "leave out each scene's first K steps (for every method)")
+          ->check(CLI::NonNegativeNumber);
+  command
+      ->add_option("--from-time", options->start.from_time_s,
+                   "leave out each scene's rows earlier than its first measured time + S seconds (for every method; "
+                   "on asynchronous data, where each view adds its own times, use this rather than --from-step)")
+      ->check(CLI::NonNegativeNumber)
+      ->excludes(from_step);
   command->add_option("--json", options->json, "also write the results as JSON here");
   command->callback([options] { eval(*options); });
 }

@@ -1,5 +1,5 @@
 // stgf plot --truth T --estimates E [E2 ...] --out DIR [--measurements M] [--scene S] [--view V]
-//           [--from-step K] [--name NAME]
+//           [--from-step K | --from-time S] [--name NAME]
 //
 // Draws any estimate files, whatever made them: NAME-trajectories (one scene from above, the true
 // paths against each method's estimates held by one view, paper Figs. 4–5) and, given the
@@ -33,7 +33,7 @@ struct PlotOptions {
   std::string out;
   std::string scene;
   std::string view;
-  int from_step = 0;
+  ScoringStart start;
   std::string name = "stgf";
 };
 
@@ -101,7 +101,7 @@ void plot(const PlotOptions& options) {
   }
   // Scoring checks that every estimate has its truth and (given) its measurement: bad input stops here.
   std::optional<Evaluation> evaluation;
-  if (measurements) evaluation = evaluate(truth, estimates, &*measurements, options.from_step);
+  if (measurements) evaluation = evaluate(truth, estimates, &*measurements, options.start);
 
   const fs::path out(options.out);
   fs::create_directories(out);
@@ -114,7 +114,9 @@ void plot(const PlotOptions& options) {
     if (evaluation) {
       stems.push_back(options.name + "-views");
       write_views_curve(*evaluation, staging.string(), stems[1],
-                        fmt::format("DE against the number of views (from step {})", options.from_step));
+                        options.start.from_time_s > 0.0
+                            ? fmt::format("DE against the number of views (from {} s)", options.start.from_time_s)
+                            : fmt::format("DE against the number of views (from step {})", options.start.from_step));
     }
     for (const std::string& stem : stems) run_gnuplot(staging.string(), stem);
   } catch (...) {
@@ -144,8 +146,14 @@ void add_plot_command(CLI::App& app) {
                       "measurements as grey points");
   command->add_option("--scene", options->scene, "scene to draw (default: the one with the most estimates)");
   command->add_option("--view", options->view, "view whose estimates to draw (default: the one with the most in the scene)");
-  command->add_option("--from-step", options->from_step, "views curve: leave out each scene's first K steps")
-      ->check(CLI::NonNegativeNumber);
+  CLI::Option* from_step =
+      command->add_option("--from-step", options->start.from_step, "views curve: leave out each scene's first K steps")
+          ->check(CLI::NonNegativeNumber);
+  command
+      ->add_option("--from-time", options->start.from_time_s,
+                   "views curve: leave out each scene's rows earlier than its first measured time + S seconds")
+      ->check(CLI::NonNegativeNumber)
+      ->excludes(from_step);
   command->add_option("--name", options->name, "file name prefix of the figures")->capture_default_str();
   command->callback([options] { plot(*options); });
 }

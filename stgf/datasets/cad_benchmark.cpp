@@ -6,6 +6,7 @@
 #include <cmath>
 #include <map>
 #include <set>
+#include <unordered_map>
 #include <stdexcept>
 #include <string_view>
 #include <utility>
@@ -275,6 +276,13 @@ Vector3d rotated(const GpsError& error, const Vector3d& v) {
 struct SplitResult {
   BenchmarkSplit split;
   nlohmann::json description;
+  nlohmann::json clocks;  // the split's "clocks" entry (null when the clocks are off)
+};
+
+// Where an instance's objects come from: its sequence and each object's KITTI track.
+struct InstanceTracks {
+  const Source* source = nullptr;
+  std::map<std::string, int> track_of_object;
 };
 
 SplitResult make_split(const CadOptions& options, const RandomStream& root, std::string_view split_name,
@@ -326,6 +334,7 @@ SplitResult make_split(const CadOptions& options, const RandomStream& root, std:
   std::set<std::size_t> windows_used;
   int moving_objects = 0;
   nlohmann::json instance_list = nlohmann::json::array();
+  std::unordered_map<std::string, InstanceTracks> instance_tracks;  // scene → its tracks, for the clocks
   for (int instance = 0; instance < instances; ++instance) {
     const std::size_t window_index = order[static_cast<std::size_t>(instance) % order.size()];
     const EligibleWindow& window = windows[window_index];
@@ -338,6 +347,11 @@ SplitResult make_split(const CadOptions& options, const RandomStream& root, std:
     const std::vector<std::string> objects = choose_ids(object_choice, window.object_ids, options.objects);
     std::vector<int> object_tracks;
     for (const std::string& id : objects) object_tracks.push_back(window.track_of.at(id));
+    if (options.clocks.active()) {
+      InstanceTracks& tracks = instance_tracks[scene];
+      tracks.source = &source;
+      for (std::size_t k = 0; k < objects.size(); ++k) tracks.track_of_object[objects[k]] = object_tracks[k];
+    }
 
     const std::size_t vehicle_count = 1 + window.vehicles.size();
     std::vector<GpsError> gps;
@@ -387,7 +401,7 @@ SplitResult make_split(const CadOptions& options, const RandomStream& root, std:
           }
           result.split.measurements.push_back({scene, time, view, objects[k],
                                                Gaussian3::from_covariance(measured, turned.covariance()),
-                                               reported_sensor});
+                                               reported_sensor, std::nullopt});
         }
       }
     }
@@ -416,6 +430,20 @@ SplitResult make_split(const CadOptions& options, const RandomStream& root, std:
                              {"first_frame", window.first_frame},
                              {"vehicles", vehicle_list},
                              {"objects", objects}});
+  }
+
+  if (options.clocks.active()) {
+    // Beyond the window: the object's own KITTI box in the frame before and the frames after, when labelled.
+    const TrackBeyondWindow kitti_track = [&](const std::string& scene, const std::string& object,
+                                              double time) -> std::optional<Vector3d> {
+      const InstanceTracks& tracks = instance_tracks.at(scene);
+      const long frame = std::lround(time * kRateHz);
+      if (frame < 0 || frame >= static_cast<long>(tracks.source->boxes.size())) return std::nullopt;
+      const KittiObject* box = tracks.source->box(static_cast<int>(frame), tracks.track_of_object.at(object));
+      if (box == nullptr) return std::nullopt;
+      return box->world_position;
+    };
+    result.clocks = apply_view_clocks(result.split, options.clocks, 1.0 / kRateHz, root, kitti_track);
   }
 
   nlohmann::json vehicle_histogram = nlohmann::json::object();
@@ -522,6 +550,7 @@ void validate_cad_options(const CadOptions& options) {
              "a probability in [0, detection_probability_near]");
   check.not_negative("gps_position_error_m", options.gps_position_error_m);
   check.not_negative("gps_heading_error_deg", options.gps_heading_error_deg);
+  check_view_clock_options(check, options.clocks, 1.0 / kRateHz);
 }
 
 CadSensorNoise cad_sensor_noise(const CadOptions& options, const Vector3d& sensor, const Vector3d& target) {
@@ -588,6 +617,11 @@ Benchmark make_cad_benchmark(const CadOptions& options) {
        "a visible object (within max_range_m and field_of_view_deg) is detected with probability P_near - "
        "(P_near - P_far) (r / max_range_m)^2, independently per vehicle, object and step; no occlusion"},
   };
+  if (options.clocks.active()) {
+    benchmark.description["clocks"] = view_clocks_json(
+        options.clocks, 1.0 / kRateHz,
+        {{"train", std::move(train.clocks)}, {"val", std::move(val.clocks)}, {"test", std::move(test.clocks)}});
+  }
   return benchmark;
 }
 

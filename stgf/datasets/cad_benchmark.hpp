@@ -103,6 +103,13 @@
 // δψ in that order) and its detections and noise from i.child("sensing").child(v) (per step, per
 // object in id order: one Bernoulli draw when visible, then three normals when detected).
 //
+// ── Clocks and latency ──────────────────────────────────────────────────────────────────────────
+// Off by default. With options.clocks asynchronous and/or a latency, every split goes through
+// apply_view_clocks (view_clocks.hpp) with T = 0.1 s; a track beyond the window is the object's own
+// KITTI box in the frame before the window and the two after it where it is labelled there, else
+// extrapolated linearly. A vehicle's reported sensor position stays that of the frame (the vehicle
+// moves up to 0.45 T of its motion in the meantime). The description then has a "clocks" entry.
+//
 // ── Output ──────────────────────────────────────────────────────────────────────────────────────
 // Scenes "cad-<split>-NNNN" (instance k of the split), t = frame / 10 with the window's own frame
 // numbers, views "v0" (ego) … "v3", objects "<sequence>-<track id>" (kitti_object_id). Measurement
@@ -120,6 +127,7 @@
 #include "stgf/core/gaussian.hpp"
 #include "stgf/datasets/benchmark_folder.hpp"
 #include "stgf/datasets/line_of_sight.hpp"
+#include "stgf/datasets/view_clocks.hpp"
 
 namespace stgf {
 
@@ -167,6 +175,9 @@ struct CadOptions {
   double gps_position_error_m = 0.3;   // σ_p: standard deviation of each horizontal axis (m;
                                        //   decimetre-level GNSS/INS without RTK corrections)
   double gps_heading_error_deg = 0.5;  // σ_ψ: standard deviation of the heading (deg)
+
+  // ── Clocks and latency (view_clocks.hpp); the defaults leave the data synchronous, no arrivals ──
+  ViewClockOptions clocks = {};
 };
 
 // Throws std::invalid_argument naming the first option out of range and its value, or a sequence

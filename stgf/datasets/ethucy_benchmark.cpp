@@ -6,6 +6,7 @@
 #include <cmath>
 #include <limits>
 #include <set>
+#include <unordered_map>
 #include <stdexcept>
 #include <utility>
 
@@ -145,7 +146,7 @@ void add_instance(const InstanceContext& context, const Recording& recording,
         const Vector3d measured = truth + biases[view] + error;
         split.measurements.push_back({scene, time, views[view].id, object,
                                       Gaussian3::from_covariance(measured, covariance),
-                                      views[view].sensor_position});
+                                      views[view].sensor_position, std::nullopt});
       }
     }
   }
@@ -263,6 +264,7 @@ void validate_ethucy_options(const EthUcyOptions& options) {
               options.max_view_standoff_m);
   check_view_noise_options(check, options);
   check.not_negative("registration_bias_m", options.registration_bias_m);
+  check_view_clock_options(check, options.clocks, 1.0 / kEthUcyRateHz);
 }
 
 std::vector<SyntheticView> place_ethucy_views(const EthUcyOptions& options, const Recording& recording) {
@@ -348,6 +350,8 @@ Benchmark make_ethucy_benchmark(const EthUcyOptions& options, std::span<const Et
   const RandomStream root(options.seed);
   Benchmark benchmark;
   nlohmann::json splits_json = nlohmann::json::object();
+  nlohmann::json clocks_json = nlohmann::json::object();
+  std::unordered_map<std::string, const Recording*> recording_of_scene;  // for the clocks' tracks
   for (auto [plan, split] : {std::pair{&train, &benchmark.train}, std::pair{&val, &benchmark.val},
                              std::pair{&test, &benchmark.test}}) {
     const std::size_t window_count = plan->window_count();
@@ -369,9 +373,10 @@ Benchmark make_ethucy_benchmark(const EthUcyOptions& options, std::span<const Et
       const int first_instance = instance;
       for (const Window& window : part.windows) {
         for (int use = 0; use < uses[window_index]; ++use) {
-          add_instance(context, file.recording, views[part.file], window,
-                       fmt::format("ethucy-{}-{:04d}", plan->name, instance),
+          const std::string scene = fmt::format("ethucy-{}-{:04d}", plan->name, instance);
+          add_instance(context, file.recording, views[part.file], window, scene,
                        split_random.child(static_cast<std::uint64_t>(instance)), *split);
+          if (options.clocks.active()) recording_of_scene[scene] = &file.recording;
           ++instance;
         }
         ++window_index;
@@ -389,6 +394,14 @@ Benchmark make_ethucy_benchmark(const EthUcyOptions& options, std::span<const Et
                                           fmt::format("ethucy-{}-{:04d}", plan->name, instance - 1)}
                          : nlohmann::json::array()},
       });
+    }
+    if (options.clocks.active()) {
+      const TrackBeyondWindow recording_track = [&](const std::string& scene, const std::string& object,
+                                                    double time) {
+        return recording_position_at(*recording_of_scene.at(scene), object, time);
+      };
+      clocks_json[plan->name] =
+          apply_view_clocks(*split, options.clocks, 1.0 / kEthUcyRateHz, root, recording_track);
     }
     splits_json[plan->name] = {
         {"requested_instances", plan->requested},
@@ -420,6 +433,8 @@ Benchmark make_ethucy_benchmark(const EthUcyOptions& options, std::span<const Et
       {"bias_model", kBiasModel},
       {"miss_model", kMissModel},
   };
+  if (options.clocks.active())
+    benchmark.description["clocks"] = view_clocks_json(options.clocks, 1.0 / kEthUcyRateHz, std::move(clocks_json));
   return benchmark;
 }
 

@@ -68,6 +68,12 @@
 // by camera: ξ₁, ξ₂), camera v's misses and noise from I.child("sensing").child(v) (step by step,
 // pedestrian by pedestrian: one detection draw, then three normals when detected).
 //
+// ── Clocks and latency ───────────────────────────────────────────────────────────────────────────
+// Off by default. With options.clocks asynchronous and/or a latency, every split goes through
+// apply_view_clocks (view_clocks.hpp) with T = 0.4 s; a track beyond the window is the recording's
+// own samples of the pedestrian at the frame before the window and the two after it where they
+// exist, else extrapolated linearly. The description then has a "clocks" entry.
+//
 // ── Output ───────────────────────────────────────────────────────────────────────────────────────
 // Scenes "ethucy-<split>-NNNN" (instance k of the split); t = f / 2.5 Hz with f the recording's frame
 // index (frame_id / 10), so times are the recording's own; objects "<recording short name>-<pedestrian>"
@@ -87,6 +93,7 @@
 #include "stgf/datasets/benchmark_folder.hpp"
 #include "stgf/datasets/eth_ucy.hpp"
 #include "stgf/datasets/synthetic.hpp"
+#include "stgf/datasets/view_clocks.hpp"
 
 namespace stgf {
 
@@ -136,6 +143,9 @@ struct EthUcyOptions {
   // ── Registration bias (not in R): b = (σ_b ξ₁, σ_b ξ₂, 0) per instance and camera ──
   double registration_bias_m = 0.05;  // σ_b, per horizontal axis (m); 0 = off. A few centimetres is a
                                       //   good surveyed camera registration on the ground plane
+
+  // ── Clocks and latency (view_clocks.hpp); the defaults leave the data synchronous, no arrivals ──
+  ViewClockOptions clocks = {};
 };
 
 // Throws std::invalid_argument naming the first option out of range and its value.

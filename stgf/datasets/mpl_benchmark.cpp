@@ -152,7 +152,7 @@ class InstanceSimulator {
         options_.ground_height_noise_m * options_.ground_height_noise_m);
     result.split.measurements.push_back({scene, time, camera.view->id, person,
                                          Gaussian3::from_covariance(measured, covariance),
-                                         file_camera.centre()});
+                                         file_camera.centre(), std::nullopt});
     ++result.measurements_by_view[camera.view->id];
   }
 
@@ -298,6 +298,7 @@ void validate_mpl_options(const MplOptions& options) {
   check.probability("detection_probability", options.detection_probability);
   check.not_negative("calibration_rotation_error_deg", options.calibration_rotation_error_deg);
   check.not_negative("calibration_translation_error_m", options.calibration_translation_error_m);
+  check_view_clock_options(check, options.clocks, 1.0 / kPets2009FrameRateHz);
 }
 
 MplSource read_mpl_source(const MplOptions& options) {
@@ -363,6 +364,16 @@ Benchmark make_mpl_benchmark(const MplOptions& options, const MplSource& source)
 
   Benchmark benchmark;
   benchmark.description = describe(options, source, plans, results);
+  if (options.clocks.active()) {
+    const double period = 1.0 / source.recording.rate_hz;
+    const TrackBeyondWindow recording_track = [&](const std::string&, const std::string& person, double time) {
+      return recording_position_at(source.recording, person, time);
+    };
+    nlohmann::json clocks = nlohmann::json::object();
+    for (std::size_t k = 0; k < plans.size(); ++k)
+      clocks[plans[k].name] = apply_view_clocks(results[k].split, options.clocks, period, root, recording_track);
+    benchmark.description["clocks"] = view_clocks_json(options.clocks, period, std::move(clocks));
+  }
   benchmark.train = std::move(results[0].split);
   benchmark.val = std::move(results[1].split);
   benchmark.test = std::move(results[2].split);

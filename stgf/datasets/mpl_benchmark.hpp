@@ -86,6 +86,12 @@
 // then ξ_u, ξ_v, ξ_z, drawn only when visible and detected). So instances are independent of each
 // other and of the instance counts, and one view's draws do not depend on the others.
 //
+// ── Clocks and latency ───────────────────────────────────────────────────────────────────────────
+// Off by default. With options.clocks asynchronous and/or a latency, every split goes through
+// apply_view_clocks (view_clocks.hpp) with T = 1/7 s; the tracks beyond an instance's window are the
+// recording's own frames (the frame before the window, the two after it) where the person is
+// annotated there, else linearly extrapolated. The description then has a "clocks" entry.
+//
 // ── Output ───────────────────────────────────────────────────────────────────────────────────────
 // Measurement rows sorted by (scene, time, view, object) and truth rows by (scene, time, object);
 // the truth has every chosen person at every step of its instance. The description (benchmark.json)
@@ -100,6 +106,7 @@
 #include "stgf/datasets/benchmark_folder.hpp"
 #include "stgf/datasets/recording.hpp"
 #include "stgf/datasets/tsai_camera.hpp"
+#include "stgf/datasets/view_clocks.hpp"
 
 namespace stgf {
 
@@ -127,6 +134,9 @@ struct MplOptions {
   // ── Calibration error (NOT in R), drawn per instance and camera; both 0 turn it off ──
   double calibration_rotation_error_deg = 0.05;   // σ_rot: per-axis turn of the true camera (degrees, ≥ 0)
   double calibration_translation_error_m = 0.02;  // σ_pos: per-axis shift of its centre (metres, ≥ 0)
+
+  // ── Clocks and latency (view_clocks.hpp); the defaults leave the data synchronous, no arrivals ──
+  ViewClockOptions clocks = {};
 };
 
 // Throws std::invalid_argument naming the first option out of range and its value.

@@ -1,9 +1,18 @@
 #include "stgf/datasets/recording.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <stdexcept>
 
 namespace stgf {
+
+std::optional<Vector3d> recording_position_at(const Recording& recording, const std::string& id, double time) {
+  const auto frame = recording.frames.find(static_cast<int>(std::lround(time * recording.rate_hz)));
+  if (frame == recording.frames.end()) return std::nullopt;
+  const auto position = frame->second.find(id);
+  if (position == frame->second.end()) return std::nullopt;
+  return position->second;
+}
 
 std::vector<Window> windows_with_objects(const Recording& recording, int first_frame, int end_frame, int steps,
                                          int min_objects) {

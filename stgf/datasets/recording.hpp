@@ -7,6 +7,7 @@
 // and sensors in them, and simulate the views' measurements.
 
 #include <map>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -31,6 +32,10 @@ struct Window {
 // in the recording and in which at least `min_objects` objects are present throughout.
 std::vector<Window> windows_with_objects(const Recording& recording, int first_frame, int end_frame, int steps,
                                          int min_objects);
+
+// The recording's position of `id` at the frame nearest `time` (frame = round(time · rate_hz)), if the
+// recording has that frame and the object in it.
+std::optional<Vector3d> recording_position_at(const Recording& recording, const std::string& id, double time);
 
 // `count` distinct ids drawn uniformly from `ids` (count ≤ ids.size()), returned in the order of `ids`.
 std::vector<std::string> choose_ids(RandomStream& random, const std::vector<std::string>& ids, int count);

@@ -263,7 +263,7 @@ BenchmarkSplit make_split(const SyntheticOptions& options, std::span<const Synth
           }
           split.measurements.push_back(
               {scene, time, views[view].id, object_ids[static_cast<std::size_t>(object)],
-               Gaussian3::from_covariance(measured, noise.covariance()), views[view].sensor_position});
+               Gaussian3::from_covariance(measured, noise.covariance()), views[view].sensor_position, std::nullopt});
         }
       }
     }
@@ -336,6 +336,7 @@ void validate_synthetic_options(const SyntheticOptions& options) {
              options.view_ring_jitter_m >= 0.0 && options.view_ring_jitter_m < options.view_ring_radius_m,
              "zero or positive and less than view_ring_radius_m");
   check_view_noise_options(check, options);
+  check_view_clock_options(check, options.clocks, 1.0 / options.rate_hz);
 }
 
 std::vector<SyntheticView> place_synthetic_views(const SyntheticOptions& options) {
@@ -418,6 +419,16 @@ Benchmark make_synthetic_benchmark(const SyntheticOptions& options) {
   benchmark.val = make_split(options, views, root, "val");
   benchmark.test = make_split(options, views, root, "test");
   benchmark.description = describe_synthetic_benchmark(options, views);
+  if (options.clocks.active()) {
+    // The walkers exist only during their scene: the tracks are extrapolated beyond it.
+    const double period = 1.0 / options.rate_hz;
+    nlohmann::json clocks = nlohmann::json::object();
+    for (auto [name, split] : {std::pair{"train", &benchmark.train}, std::pair{"val", &benchmark.val},
+                               std::pair{"test", &benchmark.test}}) {
+      clocks[name] = apply_view_clocks(*split, options.clocks, period, root);
+    }
+    benchmark.description["clocks"] = view_clocks_json(options.clocks, period, std::move(clocks));
+  }
   return benchmark;
 }
 

@@ -67,6 +67,12 @@
 // independently per view, object and step. A missed object has no row for that view and step; the
 // truth still has every object at every step.
 //
+// ── Clocks and latency ───────────────────────────────────────────────────────────────────────────
+// Off by default. With options.clocks asynchronous and/or a latency, every split goes through
+// apply_view_clocks (view_clocks.hpp) with T = 1 / rate_hz. The walkers exist only during their
+// scene, so a track beyond the scene's first or last step is extrapolated linearly from its two
+// nearest steps. The description then has a "clocks" entry.
+//
 // ── Output ───────────────────────────────────────────────────────────────────────────────────────
 // Scenes "synthetic-<split>-NNNN", objects "o0"…, views "v0"…; measurement rows sorted by (scene,
 // step, view index, object index), truth rows by (scene, step, object index); every measurement
@@ -82,6 +88,7 @@
 #include "stgf/core/gaussian.hpp"
 #include "stgf/datasets/benchmark_folder.hpp"
 #include "stgf/datasets/line_of_sight.hpp"
+#include "stgf/datasets/view_clocks.hpp"
 
 namespace stgf {
 
@@ -132,6 +139,9 @@ struct SyntheticOptions {
   double max_range_m = 50.0;                 // no detection beyond this range (m)
   double detection_probability_near = 0.98;  // P_near: at range 0
   double detection_probability_far = 0.7;    // P_far: at max_range
+
+  // ── Clocks and latency (view_clocks.hpp); the defaults leave the data synchronous, no arrivals ──
+  ViewClockOptions clocks = {};
 };
 
 // Throws std::invalid_argument naming the first option out of range and its value.

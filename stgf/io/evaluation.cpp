@@ -1,6 +1,7 @@
 #include "stgf/io/evaluation.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <optional>
 #include <unordered_map>
 
@@ -36,6 +37,9 @@ class StepTimes {
     return static_cast<int>(candidate - steps.begin());
   }
 
+  // The scene's first step time (the scene must have one).
+  double first_time(const std::string& scene) const { return times_.at(scene).front(); }
+
  private:
   std::unordered_map<std::string, std::vector<double>> times_;
 };
@@ -43,7 +47,7 @@ class StepTimes {
 struct ReferenceRow {
   int views = 0;                         // views that saw the object at this step
   std::optional<Vector3d> sensor;        // of the row's view
-  bool excluded = false;                 // before from_step
+  bool excluded = false;                 // before the scoring start
   std::string description;               // for messages
   std::size_t order = 0;                 // position in the reference rows
 };
@@ -54,7 +58,7 @@ std::string row_key(const std::string& scene, int step, const std::string& view,
 
 // The reference rows and their step times, from the measurements or from the first method's rows.
 template <class Rows, class Describe>
-void build_reference(const Rows& rows, const Describe& describe, int from_step, StepTimes& steps,
+void build_reference(const Rows& rows, const Describe& describe, const ScoringStart& start, StepTimes& steps,
                      std::unordered_map<std::string, ReferenceRow>& reference, std::size_t& excluded) {
   for (const auto& row : rows) steps.add(row.scene, row.time);
   steps.finish();
@@ -67,7 +71,8 @@ void build_reference(const Rows& rows, const Describe& describe, int from_step, 
     keys.push_back(row_key(row.scene, step, row.view, row.object));
     ++views_of_object[fmt::format("{}\n{}\n{}", row.scene, step, row.object)];
     ReferenceRow& entry = reference[keys.back()];
-    entry.excluded = step < from_step;
+    entry.excluded = step < start.from_step ||
+                     row.time < steps.first_time(row.scene) + start.from_time_s - kSameStepTolerance;
     entry.description = describe(k);
     entry.order = k;
   }
@@ -84,11 +89,24 @@ void build_reference(const Rows& rows, const Describe& describe, int from_step, 
 
 Evaluation evaluate(const TruthFile& truth, const std::vector<EstimateFile>& estimates,
                     const MeasurementFile* measurements, int from_step) {
+  return evaluate(truth, estimates, measurements, ScoringStart{from_step, 0.0});
+}
+
+Evaluation evaluate(const TruthFile& truth, const std::vector<EstimateFile>& estimates,
+                    const MeasurementFile* measurements, const ScoringStart& start) {
   if (estimates.empty()) throw std::invalid_argument("evaluate: no estimate file");
-  if (from_step < 0) throw std::invalid_argument("--from-step must be >= 0");
+  if (start.from_step < 0) throw std::invalid_argument("--from-step must be >= 0");
+  if (!std::isfinite(start.from_time_s) || start.from_time_s < 0.0) {
+    throw std::invalid_argument(
+        fmt::format("--from-time must be a finite number of seconds >= 0 (got {})", start.from_time_s));
+  }
+  if (start.from_step > 0 && start.from_time_s > 0.0) {
+    throw std::invalid_argument("--from-step and --from-time exclude each other: give one of them");
+  }
   Evaluation evaluation;
   evaluation.truth_file = truth.path;
-  evaluation.from_step = from_step;
+  evaluation.from_step = start.from_step;
+  evaluation.from_time_s = start.from_time_s;
   const TruthIndex truth_index(truth);
 
   // Methods by name, each from one file.
@@ -121,7 +139,7 @@ Evaluation evaluate(const TruthFile& truth, const std::vector<EstimateFile>& est
     build_reference(
         measurements->rows,
         [&](std::size_t k) { return fmt::format("{}:{}", measurements->path, measurements->lines[k]); },
-        from_step, steps, reference, evaluation.rows_excluded);
+        start, steps, reference, evaluation.rows_excluded);
     for (std::size_t k = 0; k < measurements->rows.size(); ++k) {
       const Measurement& row = measurements->rows[k];
       reference[row_key(row.scene, *steps.step_of(row.scene, row.time), row.view, row.object)].sensor =
@@ -136,7 +154,7 @@ Evaluation evaluate(const TruthFile& truth, const std::vector<EstimateFile>& est
         [&](std::size_t k) {
           return fmt::format("{}:{}", first.path, first.lines[methods.front().second.rows[k]]);
         },
-        from_step, steps, reference, evaluation.rows_excluded);
+        start, steps, reference, evaluation.rows_excluded);
   }
 
   for (const auto& [method, method_rows] : methods) {

@@ -5,9 +5,19 @@
 // Every method is scored on the same rows. The reference rows are the measurements when given
 // (each measured (scene, t, view, object) must have exactly one estimate from every method), or
 // else the rows of the first method. A method that misses a reference row, adds a row that is not
-// one, or a row without truth is an InputError naming the file and line. Steps are counted per
-// scene from 0 in time order; rows of steps before `from_step` are left out for every method (the
-// history a learned method needs).
+// one, or a row without truth is an InputError naming the file and line.
+//
+// Where scoring starts (ScoringStart), for every method alike — the history a learned method needs
+// is left out:
+//   from_step K     steps are counted per scene from 0 in time order (distinct times within
+//                   1e-6 s); rows of steps k < K are left out.
+//   from_time S     rows of scene s with t < t₀(s) + S − 1e-6 s are left out, t₀(s) the scene's
+//                   first reference time. Unlike from_step it does not depend on how many distinct
+//                   times there are: on asynchronous data (each view on its own clock) every view
+//                   adds its own times, so K steps cover about K/n frames for n views. On
+//                   synchronous data at period T, from_time K·T leaves out exactly what from_step K
+//                   does.
+// At most one of the two may be set (std::invalid_argument otherwise).
 
 #include <map>
 #include <string>
@@ -27,14 +37,23 @@ struct MethodScore {
   std::map<int, ErrorSummary> by_views;  // number of views that saw the object at that step
 };
 
+struct ScoringStart {
+  int from_step = 0;         // K ≥ 0
+  double from_time_s = 0.0;  // S ≥ 0, seconds after each scene's first reference time
+};
+
 struct Evaluation {
   std::string truth_file;
   std::string measurements_file;  // empty when views were counted from the estimates
   int from_step = 0;
-  std::size_t rows_excluded = 0;  // reference rows before from_step
+  double from_time_s = 0.0;
+  std::size_t rows_excluded = 0;  // reference rows before the start (from_step or from_time_s)
   std::vector<MethodScore> methods;
 };
 
+Evaluation evaluate(const TruthFile& truth, const std::vector<EstimateFile>& estimates,
+                    const MeasurementFile* measurements, const ScoringStart& start);
+// The same, from step `from_step`.
 Evaluation evaluate(const TruthFile& truth, const std::vector<EstimateFile>& estimates,
                     const MeasurementFile* measurements, int from_step);
 

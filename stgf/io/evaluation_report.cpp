@@ -72,6 +72,7 @@ nlohmann::json evaluation_json(const Evaluation& evaluation) {
           {"measurements", evaluation.measurements_file.empty() ? nlohmann::json(nullptr)
                                                                  : nlohmann::json(evaluation.measurements_file)},
           {"from_step", evaluation.from_step},
+          {"from_time_s", evaluation.from_time_s},
           {"rows_excluded_before_from_step", evaluation.rows_excluded},
           {"nees_interval_95", {kChiSquare3Lower95, kChiSquare3Upper95}},
           {"methods", methods}};

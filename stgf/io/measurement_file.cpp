@@ -20,16 +20,26 @@ MeasurementFile read_rows(CsvReader reader) {
     throw InputError(reader.path(), 1, "sensor_x, sensor_y and sensor_z must be given together");
   }
 
+  const int arrival = reader.column_index("arrival");
+
   MeasurementFile file;
   file.path = reader.path();
   file.has_sensor_positions = sensor_columns == 3;
+  file.has_arrival = arrival >= 0;
   std::vector<detail::RowIdentity> identities;
   CsvReader::Row row;
   while (reader.next(row)) {
     Measurement measurement{reader.text(row, keys.scene), reader.number(row, keys.time),
                             reader.text(row, keys.view), reader.text(row, keys.object),
-                            detail::read_gaussian(reader, row, gaussian), std::nullopt};
+                            detail::read_gaussian(reader, row, gaussian), std::nullopt, std::nullopt};
     if (file.has_sensor_positions) measurement.sensor_position = reader.vector3(row, sensor);
+    if (file.has_arrival) {
+      measurement.arrival = reader.number(row, arrival);
+      if (*measurement.arrival < measurement.time - kArrivalTolerance) {
+        reader.fail(row, fmt::format("arrival {} is before t {}: the message arrived before it was measured",
+                                     *measurement.arrival, measurement.time));
+      }
+    }
     identities.push_back({measurement.scene + '\n' + measurement.view + '\n' + measurement.object,
                           measurement.time, row.line, file.rows.size()});
     file.rows.push_back(std::move(measurement));
@@ -58,10 +68,14 @@ std::string format_position(double metres) {
 
 void write_measurements(const std::string& path, std::span<const Measurement> rows) {
   bool with_sensor = !rows.empty();
-  for (const Measurement& row : rows) with_sensor = with_sensor && row.sensor_position.has_value();
+  bool with_arrival = !rows.empty();
+  for (const Measurement& row : rows) {
+    with_sensor = with_sensor && row.sensor_position.has_value();
+    with_arrival = with_arrival && row.arrival.has_value();
+  }
   OutputFile file(path);
   std::string line = std::string("scene,t,view,object,") + detail::kGaussianHeader +
-                     (with_sensor ? ",sensor_x,sensor_y,sensor_z\n" : "\n");
+                     (with_sensor ? ",sensor_x,sensor_y,sensor_z" : "") + (with_arrival ? ",arrival\n" : "\n");
   file.stream() << line;
   for (const Measurement& row : rows) {
     line.clear();
@@ -72,6 +86,10 @@ void write_measurements(const std::string& path, std::span<const Measurement> ro
         line += ',';
         detail::append_number(line, (*row.sensor_position)(k), 12);
       }
+    }
+    if (with_arrival) {
+      line += ',';
+      detail::append_time(line, *row.arrival);
     }
     line += '\n';
     file.stream() << line;

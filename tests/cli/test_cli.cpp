@@ -183,6 +183,40 @@ TEST_F(Cli, RunThenEval) {
   EXPECT_THAT(eval.out, HasSubstr("| wls | 3 | 0.0000 |"));
   EXPECT_THAT(eval.out, HasSubstr("| mmt | 3 |"));
   EXPECT_THAT(slurp(directory_ / "r.json"), HasSubstr("\"method\": \"mmt\""));
+
+  const Result from_time = stgf("eval --truth t.csv --measurements m.csv --estimates wls.csv --from-time 0.1");
+  ASSERT_EQ(from_time.status, 0) << from_time.err;
+  EXPECT_THAT(from_time.out, HasSubstr("| wls | 1 |"));
+  const Result both = stgf("eval --truth t.csv --measurements m.csv --estimates wls.csv --from-step 1 --from-time 0.1");
+  EXPECT_EQ(both.status, 2);
+  EXPECT_THAT(both.err, HasSubstr("--from-time"));
+  EXPECT_EQ(stgf("eval --truth t.csv --measurements m.csv --estimates wls.csv --from-time -1").status, 2);
+}
+
+// The clock options of `stgf dataset`: an asynchronous benchmark with latencies that `run` and `eval
+// --from-time` take as they are; bad values stop with exit status 2 naming the option.
+TEST_F(Cli, DatasetClockOptions) {
+  const std::string shape = "dataset synthetic --seed 3 --scenes 2 --objects 3 --views 2 --steps 10";
+  const Result built = stgf(shape + " --out bench --asynchronous --jitter 0.003 --latency 0.05");
+  ASSERT_EQ(built.status, 0) << built.err;
+  EXPECT_THAT(slurp(directory_ / "bench/test/measurements.csv"), StartsWith("scene,t,view,object,x,y,z,"));
+  EXPECT_THAT(slurp(directory_ / "bench/test/measurements.csv"), HasSubstr("sensor_z,arrival\n"));
+  EXPECT_THAT(slurp(directory_ / "bench/benchmark.json"), HasSubstr("\"asynchronous\": true"));
+  ASSERT_EQ(stgf("run --method wls --measurements bench/test/measurements.csv --out wls.csv").status, 0);
+  const Result eval = stgf(
+      "eval --truth bench/test/truth.csv --measurements bench/test/measurements.csv --estimates wls.csv --from-time 0.2");
+  EXPECT_EQ(eval.status, 0) << eval.err;
+
+  const Result jitter = stgf(shape + " --out bad --asynchronous --jitter 0.05");
+  EXPECT_EQ(jitter.status, 2);
+  EXPECT_THAT(jitter.err, HasSubstr("jitter_s must be zero or positive and below a tenth of the frame period (0.01 s)"));
+  const Result without = stgf(shape + " --out bad --jitter 0.001");
+  EXPECT_EQ(without.status, 2);
+  EXPECT_THAT(without.err, HasSubstr("--asynchronous"));
+  const Result latency = stgf(shape + " --out bad --latency -1");
+  EXPECT_EQ(latency.status, 2);
+  EXPECT_THAT(latency.err, HasSubstr("latency_s must be zero or positive (got -1)"));
+  EXPECT_FALSE(exists("bad"));
 }
 
 // stgf plot on any estimate files: both figures with their data and scripts; a bad scene stops it

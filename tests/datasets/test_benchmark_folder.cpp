@@ -128,9 +128,9 @@ TEST(BenchmarkFolder, FailureLeavesNoTraceAndKeepsThePreviousBenchmark) {
 TEST(BenchmarkFolder, CountsStepsWithinTheTimeTolerance) {
   BenchmarkSplit split;
   const Gaussian3 z = Gaussian3::from_covariance(Vector3d::Zero(), Matrix3d::Identity());
-  split.measurements.push_back({"a", 0.0, "v0", "o0", z, std::nullopt});
-  split.measurements.push_back({"a", 0.0000004, "v1", "o0", z, std::nullopt});  // same step
-  split.measurements.push_back({"a", 0.1, "v0", "o1", z, std::nullopt});
+  split.measurements.push_back({"a", 0.0, "v0", "o0", z, std::nullopt, std::nullopt});
+  split.measurements.push_back({"a", 0.0000004, "v1", "o0", z, std::nullopt, std::nullopt});  // same step
+  split.measurements.push_back({"a", 0.1, "v0", "o1", z, std::nullopt, std::nullopt});
   split.truth.push_back({"a", 0.2, "o0", Vector3d::Zero()});
   split.truth.push_back({"b", 0.0, "o0", Vector3d::Zero()});
   const nlohmann::json counts = count_split(split);

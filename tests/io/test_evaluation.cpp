@@ -77,6 +77,80 @@ TEST(Evaluation, FromStepLeavesOutEarlyStepsForEveryMethod) {
   EXPECT_DOUBLE_EQ(evaluation.methods[0].overall.displacement_error, 1.0);
 }
 
+TEST(Evaluation, FromTimeOnSynchronousDataLeavesOutWhatFromStepDoes) {
+  const MeasurementFile measurements = parse_measurements("m.csv", kMeasurements);
+  const TruthFile truth = parse_truth("t.csv", kTruth);
+  const std::vector<EstimateFile> estimates = {parse_estimates("e.csv", kMethodA)};
+  // Steps at 0 and 1 s: from 1 s (the second step's time; within 1e-6 s counts as reached) and
+  // from 0.5 s both leave out the first step, like --from-step 1.
+  for (const double from_time : {0.5, 1.0, 1.0000009}) {
+    const Evaluation evaluation = evaluate(truth, estimates, &measurements, ScoringStart{0, from_time});
+    EXPECT_EQ(evaluation.rows_excluded, 2u) << from_time;
+    EXPECT_EQ(evaluation.from_time_s, from_time);
+    EXPECT_EQ(evaluation.methods[0].overall.rows, 1u) << from_time;
+    EXPECT_DOUBLE_EQ(evaluation.methods[0].overall.displacement_error, 1.0) << from_time;
+  }
+  EXPECT_EQ(evaluate(truth, estimates, &measurements, ScoringStart{0, 0.0}).rows_excluded, 0u);
+  EXPECT_EQ(evaluate(truth, estimates, &measurements, ScoringStart{0, 1.1}).rows_excluded, 3u);
+  EXPECT_EQ(evaluation_json(evaluate(truth, estimates, &measurements, ScoringStart{0, 0.5}))["from_time_s"], 0.5);
+}
+
+TEST(Evaluation, FromTimeCountsSecondsNotDistinctTimesOnAsynchronousData) {
+  // Two views on their own clocks (v2 30 ms after v1), two frames 1 s apart, in two scenes whose
+  // first times differ: every view adds its own times, so --from-step 1 would leave out only v1's
+  // first row, while --from-time 1 leaves out each scene's whole first frame.
+  const std::string measurements_text =
+      "scene,t,view,object,x,y,z,cov_xx,cov_xy,cov_xz,cov_yy,cov_yz,cov_zz\n"
+      "a,0,v1,o,0,0,0,1,0,0,1,0,1\n"
+      "a,0.03,v2,o,0,0,0,1,0,0,1,0,1\n"
+      "a,1,v1,o,1,0,0,1,0,0,1,0,1\n"
+      "a,1.03,v2,o,1,0,0,1,0,0,1,0,1\n"
+      "b,5,v1,o,0,0,0,1,0,0,1,0,1\n"
+      "b,5.03,v2,o,0,0,0,1,0,0,1,0,1\n"
+      "b,6,v1,o,1,0,0,1,0,0,1,0,1\n";
+  const std::string truth_text =
+      "scene,t,object,x,y,z\na,0,o,0,0,0\na,0.03,o,0,0,0\na,1,o,1,0,0\na,1.03,o,1,0,0\n"
+      "b,5,o,0,0,0\nb,5.03,o,0,0,0\nb,6,o,1,0,0\n";
+  // Errors: 10 m in each first frame, 1 m after.
+  const std::string estimates_text = kHeader +
+                                     "a,0,v1,o,10,0,0,1,0,0,1,0,1,a\n"
+                                     "a,0.03,v2,o,10,0,0,1,0,0,1,0,1,a\n"
+                                     "a,1,v1,o,2,0,0,1,0,0,1,0,1,a\n"
+                                     "a,1.03,v2,o,2,0,0,1,0,0,1,0,1,a\n"
+                                     "b,5,v1,o,10,0,0,1,0,0,1,0,1,a\n"
+                                     "b,5.03,v2,o,10,0,0,1,0,0,1,0,1,a\n"
+                                     "b,6,v1,o,2,0,0,1,0,0,1,0,1,a\n";
+  const MeasurementFile measurements = parse_measurements("m.csv", measurements_text);
+  const TruthFile truth = parse_truth("t.csv", truth_text);
+  const std::vector<EstimateFile> estimates = {parse_estimates("e.csv", estimates_text)};
+
+  const Evaluation by_time = evaluate(truth, estimates, &measurements, ScoringStart{0, 1.0});
+  EXPECT_EQ(by_time.rows_excluded, 4u);
+  EXPECT_EQ(by_time.methods[0].overall.rows, 3u);
+  EXPECT_DOUBLE_EQ(by_time.methods[0].overall.displacement_error, 1.0);
+
+  const Evaluation by_step = evaluate(truth, estimates, &measurements, ScoringStart{1, 0.0});
+  EXPECT_EQ(by_step.rows_excluded, 2u);
+  EXPECT_EQ(by_step.methods[0].overall.rows, 5u);
+}
+
+TEST(Evaluation, FromStepAndFromTimeExcludeEachOther) {
+  const MeasurementFile measurements = parse_measurements("m.csv", kMeasurements);
+  const TruthFile truth = parse_truth("t.csv", kTruth);
+  const std::vector<EstimateFile> estimates = {parse_estimates("e.csv", kMethodA)};
+  const auto message_of = [&](const ScoringStart& start) -> std::string {
+    try {
+      evaluate(truth, estimates, &measurements, start);
+    } catch (const std::invalid_argument& error) {
+      return error.what();
+    }
+    return "no error";
+  };
+  EXPECT_EQ(message_of({1, 0.5}), "--from-step and --from-time exclude each other: give one of them");
+  EXPECT_EQ(message_of({0, -0.1}), "--from-time must be a finite number of seconds >= 0 (got -0.1)");
+  EXPECT_THAT(message_of({0, std::nan("")}), HasSubstr("--from-time must be a finite number"));
+}
+
 TEST(Evaluation, WithoutMeasurementsTheFirstMethodFixesTheRowsAndNoRelativeError) {
   const Evaluation evaluation =
       evaluate(parse_truth("t.csv", kTruth), {parse_estimates("e.csv", kMethodA)}, nullptr, 0);

@@ -4,6 +4,8 @@
 #include "stgf/io/measurement_file.hpp"
 
 #include <filesystem>
+#include <fstream>
+#include <iterator>
 
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
@@ -103,14 +105,94 @@ TEST(MeasurementFile, PartialSensorColumns) {
             "m.csv:1: sensor_x, sensor_y and sensor_z must be given together");
 }
 
+// ── The arrival column ──
+
+const std::string kHeaderWithArrival =
+    "scene,t,view,object,x,y,z,cov_xx,cov_xy,cov_xz,cov_yy,cov_yz,cov_zz,arrival\n";
+
+TEST(MeasurementFile, ReadsArrivals) {
+  const MeasurementFile file =
+      parse_measurements("m.csv", kHeaderWithArrival + "s,0.1,v,o,1,2,3,1,0,0,1,0,1,0.25\n"
+                                                       "s,0.2,v,o,1,2,3,1,0,0,1,0,1,0.2\n");
+  EXPECT_TRUE(file.has_arrival);
+  ASSERT_EQ(file.rows.size(), 2u);
+  EXPECT_EQ(file.rows[0].arrival, 0.25);
+  EXPECT_EQ(file.rows[1].arrival, 0.2);  // arriving the instant it was measured is fine
+}
+
+TEST(MeasurementFile, NoArrivalColumnMeansNoArrivals) {
+  const MeasurementFile file = parse_measurements("m.csv", kHeader + "s,0.1,v,o,1,2,3,1,0,0,1,0,1\n");
+  EXPECT_FALSE(file.has_arrival);
+  EXPECT_FALSE(file.rows[0].arrival.has_value());
+}
+
+TEST(MeasurementFile, ArrivalBeforeTheMeasurement) {
+  EXPECT_EQ(error_of(kHeaderWithArrival + "s,0.1,v,o,1,2,3,1,0,0,1,0,1,0.3\ns,0.2,v,o,1,2,3,1,0,0,1,0,1,0.19\n"),
+            "m.csv:3: arrival 0.19 is before t 0.2: the message arrived before it was measured");
+}
+
+TEST(MeasurementFile, ArrivalWithinRoundingOfTheMeasurementIsAccepted) {
+  EXPECT_EQ(error_of(kHeaderWithArrival + "s,0.2,v,o,1,2,3,1,0,0,1,0,1,0.1999999999995\n"), "no error");
+}
+
+TEST(MeasurementFile, ArrivalEmpty) {
+  EXPECT_EQ(error_of(kHeaderWithArrival + "s,0.1,v,o,1,2,3,1,0,0,1,0,1,\n"),
+            "m.csv:2: column 'arrival' is empty");
+}
+
+TEST(MeasurementFile, ArrivalNonNumeric) {
+  EXPECT_EQ(error_of(kHeaderWithArrival + "s,0.1,v,o,1,2,3,1,0,0,1,0,1,soon\n"),
+            "m.csv:2: column 'arrival': 'soon' is not a number");
+}
+
+TEST(MeasurementFile, ArrivalNotFinite) {
+  EXPECT_EQ(error_of(kHeaderWithArrival + "s,0.1,v,o,1,2,3,1,0,0,1,0,1,nan\n"),
+            "m.csv:2: column 'arrival': 'nan' is not finite");
+  EXPECT_EQ(error_of(kHeaderWithArrival + "s,0.1,v,o,1,2,3,1,0,0,1,0,1,inf\n"),
+            "m.csv:2: column 'arrival': 'inf' is not finite");
+}
+
+std::string written_text(const std::vector<Measurement>& rows) {
+  const std::string path = (std::filesystem::temp_directory_path() / "stgf_test_arrivals.csv").string();
+  write_measurements(path, rows);
+  std::ifstream input(path);
+  const std::string text((std::istreambuf_iterator<char>(input)), std::istreambuf_iterator<char>());
+  std::filesystem::remove(path);
+  return text;
+}
+
+TEST(MeasurementFile, WritesArrivalsOnlyWhenEveryRowHasOne) {
+  const Gaussian3 position = Gaussian3::from_covariance(Vector3d(1, 2, 3), Matrix3d::Identity());
+  std::vector<Measurement> rows = {{"s", 0.1, "v", "o", position, std::nullopt, 0.1000004},
+                                   {"s", 0.2, "v", "o", position, std::nullopt, 0.5}};
+  const std::string with = written_text(rows);
+  EXPECT_EQ(with, kHeaderWithArrival + "s,0.100000,v,o,1,2,3,1,0,0,1,0,1,0.100000\n"
+                                       "s,0.200000,v,o,1,2,3,1,0,0,1,0,1,0.500000\n");
+  const MeasurementFile file = parse_measurements("m.csv", with);
+  EXPECT_TRUE(file.has_arrival);
+  EXPECT_EQ(file.rows[1].arrival, 0.5);
+
+  rows[1].arrival.reset();
+  EXPECT_EQ(written_text(rows), kHeader + "s,0.100000,v,o,1,2,3,1,0,0,1,0,1\n"
+                                          "s,0.200000,v,o,1,2,3,1,0,0,1,0,1\n");
+}
+
+TEST(MeasurementFile, ArrivalComesAfterTheSensorColumns) {
+  const Gaussian3 position = Gaussian3::from_covariance(Vector3d(1, 2, 3), Matrix3d::Identity());
+  const std::string text = written_text({{"s", 0.1, "v", "o", position, Vector3d(4, 5, 6), 0.3}});
+  EXPECT_EQ(text,
+            "scene,t,view,object,x,y,z,cov_xx,cov_xy,cov_xz,cov_yy,cov_yz,cov_zz,sensor_x,sensor_y,sensor_z,arrival\n"
+            "s,0.100000,v,o,1,2,3,1,0,0,1,0,1,4,5,6,0.300000\n");
+}
+
 TEST(MeasurementFile, WrittenFileReadsBackTheSame) {
   Matrix3d covariance;
   covariance << 0.04, 0.01, -0.002, 0.01, 0.09, 0.003, -0.002, 0.003, 0.01;
   const std::vector<Measurement> rows = {
       {"scene, with comma", 0.1, "v1", "o1", Gaussian3::from_covariance(Vector3d(1.25, -2.5, 1e-3), covariance),
-       Vector3d(10, 20, 5)},
+       Vector3d(10, 20, 5), std::nullopt},
       {"scene, with comma", 0.2, "v1", "o1", Gaussian3::from_covariance(Vector3d(123456.789012, 0, 0), covariance),
-       Vector3d(10, 20, 5)}};
+       Vector3d(10, 20, 5), std::nullopt}};
   const std::string path = (std::filesystem::temp_directory_path() / "stgf_test_measurements.csv").string();
   write_measurements(path, rows);
   const MeasurementFile file = read_measurements(path);
