@@ -104,7 +104,7 @@ int run(int argc, char** argv) {
     }
     latest = std::max(latest, t);
   }
-  const Vector3d learnt = filter.registration().offset("peer").head<3>() - filter.registration().offset("ego").head<3>();
+  const Vector3d learnt = filter.registration_offset("peer").head<3>() - filter.registration_offset("ego").head<3>();
   std::printf("\nafter 1 s: RMS error of the live estimates %.3f m (of the measurements alone %.3f m)\n",
               std::sqrt(squared_error / count), std::sqrt(measured_error / count));
   std::printf("peer's offset relative to ego: learnt (%.2f, %.2f) m, true (%.2f, %.2f) m\n", learnt.x(), learnt.y(),

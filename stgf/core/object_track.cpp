@@ -4,50 +4,49 @@
 #include <stdexcept>
 
 namespace stgf {
-namespace {
 
-// s² (τ² − τ_s²) I, the spread of an unknown velocity, while the history holds one position.
-Matrix3d speed_spread(const MotionPredictor& predictor, std::size_t history_positions, double tau, double tau_state) {
-  if (history_positions != 1) return Matrix3d::Zero();
-  const double speed = predictor.typical_speed();
-  return speed * speed * (tau * tau - tau_state * tau_state) * Matrix3d::Identity();
+ObjectTrack::Motion ObjectTrack::motion_to(double time, const MotionPredictor& predictor,
+                                           const ProcessNoiseScale& scale) const {
+  if (empty()) throw std::logic_error("ObjectTrack::motion_to needs a track that is not empty");
+  if (needs_forecast()) throw std::logic_error("ObjectTrack::motion_to needs the forecast of the track's history");
+  const double state_time = state_->time;
+  if (!(time > state_time)) throw std::logic_error("ObjectTrack::motion_to: time must follow the track's state");
+  const double origin = forecast_origin();
+  const double tau = time - origin;
+  const double tau_state = state_time - origin;
+  Motion motion;
+  motion.displacement = forecast_ ? Vector3d(forecast_->displacement(tau) - forecast_->displacement(tau_state))
+                                  : Vector3d::Zero();
+  motion.process_noise = symmetrised(predictor.process_noise(tau) -
+                                     (tau_state > 0.0 ? predictor.process_noise(tau_state) : Matrix3d::Zero()));
+  motion.covariance = scale.scaled(motion.process_noise);
+  if (history_.size() <= 1) {  // no velocity yet: the unknown speed's spread
+    const double speed = predictor.typical_speed();
+    motion.covariance += speed * speed * (tau * tau - tau_state * tau_state) * Matrix3d::Identity();
+  }
+  motion.interval = std::sqrt(tau * tau - tau_state * tau_state);
+  return motion;
 }
 
-}  // namespace
-
-TrackPrediction ObjectTrack::predict(double time, const MotionPredictor& predictor,
-                                     const ProcessNoiseScale& scale) const {
-  if (empty() || !forecast_) throw std::logic_error("ObjectTrack::predict needs a track with a forecast");
-  const TrackPoint& state = *state_;
-  if (!(time > state.time)) throw std::logic_error("ObjectTrack::predict: time must follow the track's state");
-  const double history_time = history_.back().time;
-  const double tau = time - history_time;
-  const double tau_state = state.time - history_time;
-  const Vector3d mean = state.estimate.mean() + forecast_->displacement(tau) - forecast_->displacement(tau_state);
-  const Matrix3d process_noise =
-      symmetrised(predictor.process_noise(tau) - (tau_state > 0.0 ? predictor.process_noise(tau_state) : Matrix3d::Zero()));
-  const Matrix3d covariance = state.estimate.covariance() + scale.scaled(process_noise) +
-                              speed_spread(predictor, history_.size(), tau, tau_state);
-  return {Gaussian3::from_covariance(mean, covariance), state.estimate.covariance(), process_noise,
-          std::sqrt(tau * tau - tau_state * tau_state), history_.size()};
+TrackPrediction ObjectTrack::predict(double time, const MotionPredictor& predictor, const ProcessNoiseScale& scale) const {
+  const Motion motion = motion_to(time, predictor, scale);
+  const Gaussian3& state = state_->estimate;
+  return {Gaussian3::from_covariance(state.mean() + motion.displacement, state.covariance() + motion.covariance),
+          state.covariance(), motion.process_noise, motion.interval, history_.size()};
 }
 
-std::pair<Vector3d, Matrix3d> ObjectTrack::displacement_since_history(double time, const MotionPredictor& predictor,
-                                                                      const ProcessNoiseScale& scale) const {
-  if (history_.empty()) return {Vector3d::Zero(), Matrix3d::Zero()};
-  const double tau = time - history_.back().time;
-  if (!(tau > 0.0)) return {Vector3d::Zero(), Matrix3d::Zero()};
-  const Vector3d displacement = forecast_ ? forecast_->displacement(tau) : Vector3d::Zero();
-  return {displacement, scale.scaled(predictor.process_noise(tau)) + speed_spread(predictor, history_.size(), tau, 0.0)};
-}
-
-void ObjectTrack::update(double time, const Gaussian3& estimate, const MotionPredictor& predictor) {
+void ObjectTrack::update(double time, const Gaussian3& estimate) {
+  if (!state_) first_time_ = time;
   state_ = TrackPoint{time, estimate};
-  if (!history_.empty() && time - history_.back().time < predictor.history_spacing()) return;
-  history_.push_back(TrackPoint{time, estimate});
+}
+
+void ObjectTrack::close_frame(const MotionPredictor& predictor) {
+  if (!frame_time_ || !state_) throw std::logic_error("ObjectTrack::close_frame: no open frame");
+  history_.push_back(*state_);
   const auto limit = static_cast<std::size_t>(predictor.history_positions());
   while (history_.size() > limit) history_.pop_front();
   forecast_.reset();
+  frame_time_.reset();
 }
 
 }  // namespace stgf

@@ -1,35 +1,42 @@
 #pragma once
 // One track of the spatiotemporal graph filter: what it knows of one object (DESIGN §1), in
-// continuous time.
+// continuous time, for measurements that come on any clock.
 //
 // A track holds
-//   - its state: the latest fused estimate N(x̂_s, P̂_s) at time t_s;
-//   - its history: fused estimates at times t_1 < … < t_h (at most the predictor's
-//     history_positions()), at least the predictor's history_spacing() apart — what the motion model
-//     reads (the feedback of Algorithm 1: fused positions, not raw measurements);
-//   - the forecast f made from that history (motion_predictor.hpp), absent until computed and
-//     dropped whenever the history changes.
-// An update at time t becomes the new state; it also becomes a new history position when the history
-// is empty or t − t_h ≥ history_spacing(), else the history (and its forecast) stay as they are. On
-// synchronous data at the model's rate every update is a history position, and t_s = t_h.
+//   - its state: the latest fused estimate N(x̂_s, P̂_s) at time t_s, updated by every measurement of
+//     the object at the measurement's own time;
+//   - its history: states at t_1 < … < t_h (at most the predictor's history_positions()), what the
+//     motion model reads (the feedback of Algorithm 1: fused positions, not raw measurements);
+//   - the forecast f made from that history (motion_predictor.hpp), absent until computed and dropped
+//     whenever the history changes;
+//   - an open frame: since when (t_g) the track gathers measurements toward its next history position.
+//     scene_filter.hpp closes a frame once a frame window has passed (the predictor's history spacing for one track per object; any later
+//     time for per-view tracks), and the state at that moment — fused from every view that measured
+//     the object within the frame — becomes the next history position. On synchronised views a frame
+//     is one step, and the history is the fused estimate of every step, as in DESIGN §1. (A history
+//     position taken right after a single view's measurement would carry that view's residual offset,
+//     and the views' differing offsets would turn into velocity: 0.1 m over a 1/7 s frame is 0.7 m/s.)
 //
-// Prediction to t > t_s. With τ = t − t_h, τ_s = t_s − t_h:
+// Prediction to t > t_s, along the forecast from the last history position t_h (from the track's
+// first time while it has none), with τ = t − t_h and τ_s = t_s − t_h:
 //     x = x̂_s + f(τ) − f(τ_s)
-//     P = P̂_s + D [Q(τ) − Q(τ_s)] D  (+ s² (τ² − τ_s²) I while the history holds one position)
+//     P = P̂_s + D [Q(τ) − Q(τ_s)] D  (+ s² (τ² − τ_s²) I while the history holds at most one position)
 // The forecast's error grows with the time since its history position, as Q(τ); between two updates
-// along the same forecast it grows by Q(τ) − Q(τ_s), so a track updated by seven unsynchronised
-// cameras in one frame period accumulates the same process noise over that period, Q(period), as a
-// track updated once by seven synchronised ones (a plain Q(t − t_s) per update would add up to a
-// seventh of it with Q ∝ Δt², and the filter would trust its prediction seven times too much).
-// D = diag(√λ) is the online scale of Q (process_noise_scale.hpp). With one history position there is
-// no velocity (f = Φ's guess from a standing start, or 0), and the unknown speed s (the predictor's
-// typical_speed()) adds its spread the same way. Q must grow with its interval, so P ⪰ P̂_s.
+// along one forecast it grows by Q(τ) − Q(τ_s), so a track updated by seven unsynchronised cameras in
+// a frame period accumulates the same process noise over that period as a track updated once by
+// seven synchronised ones (a plain Q(t − t_s) per update would add up to a seventh of it with
+// Q ∝ Δt², and the filter would trust its prediction seven times too much). D = diag(√λ) is the online
+// scale of Q (process_noise_scale.hpp); s is the predictor's typical speed (the unknown velocity of a
+// short history). Q must grow with its interval, so P ⪰ P̂_s.
 
 #include <deque>
 #include <optional>
+#include <utility>
+#include <vector>
 
 #include "stgf/core/motion_predictor.hpp"
 #include "stgf/core/process_noise_scale.hpp"
+#include "stgf/core/records.hpp"
 
 namespace stgf {
 
@@ -59,29 +66,39 @@ class ObjectTrack {
   const std::optional<MotionForecast>& forecast() const { return forecast_; }
   void set_forecast(const MotionForecast& forecast) { forecast_ = forecast; }
 
-  // The prediction to `time` (> state().time) as above. The track must have a forecast.
+  // The motion from the state to `time` (> state().time) as above: x − x̂_s and P − P̂_s, with the parts
+  // of TrackPrediction. A track with a history needs its forecast.
+  struct Motion {
+    Vector3d displacement;
+    Matrix3d covariance;     // D [Q(τ) − Q(τ_s)] D (+ the speed term)
+    Matrix3d process_noise;  // Q(τ) − Q(τ_s)
+    double interval;
+  };
+  Motion motion_to(double time, const MotionPredictor& predictor, const ProcessNoiseScale& scale) const;
+  // The prediction to `time`: the state moved by motion_to(time).
   TrackPrediction predict(double time, const MotionPredictor& predictor, const ProcessNoiseScale& scale) const;
+  // Makes (time, estimate) the state.
+  void update(double time, const Gaussian3& estimate);
 
-  // Where the object was, relative to its last history position, `time` − t_h later along the
-  // forecast (zero without one), and the covariance of that displacement's error, D Q(τ) D (plus the
-  // speed term): for moving a measurement at `time` back to t_h.
-  std::pair<Vector3d, Matrix3d> displacement_since_history(double time, const MotionPredictor& predictor,
-                                                           const ProcessNoiseScale& scale) const;
-
-  // Makes (time, estimate) the state, and a history position when it is due (see above).
-  void update(double time, const Gaussian3& estimate, const MotionPredictor& predictor);
+  // ── The open frame ──
+  bool has_frame() const { return frame_time_.has_value(); }
+  double frame_time() const { return *frame_time_; }
+  void open_frame(double time) { frame_time_ = time; }
+  // The state becomes a history position, the frame ends and the forecast is dropped.
+  void close_frame(const MotionPredictor& predictor);
 
   // Forgets everything: the object starts again as if never seen.
-  void clear() {
-    state_.reset();
-    history_.clear();
-    forecast_.reset();
-  }
+  void clear() { *this = ObjectTrack(); }
 
  private:
+  // The time the forecast runs from: the last history position, else the track's first time.
+  double forecast_origin() const { return history_.empty() ? first_time_ : history_.back().time; }
+
   std::optional<TrackPoint> state_;
+  double first_time_ = 0.0;
   std::deque<TrackPoint> history_;  // oldest first
   std::optional<MotionForecast> forecast_;
+  std::optional<double> frame_time_;
 };
 
 }  // namespace stgf

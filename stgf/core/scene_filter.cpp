@@ -29,7 +29,7 @@ bool row_before(const Measurement& a, const Measurement& b) {
 SceneFilter::SceneFilter(const MotionPredictor& predictor, const FilterOptions& options)
     : predictor_(predictor),
       options_(options),
-      state_{{}, ViewRegistration(options.registration), {}, {}, 0},
+      state_{{}, ViewRegistration(options.registration), JointRegistration(options.registration), {}, 0},
       latest_time_(-std::numeric_limits<double>::infinity()) {
   if (!std::isfinite(options.lag_window) || options.lag_window < 0.0) {
     throw std::invalid_argument("the lag window must be finite and >= 0 seconds");
@@ -107,8 +107,9 @@ void SceneFilter::receive(std::span<const Measurement> measurements, std::span<c
 
 void SceneFilter::leave_out(const Measurement& measurement, std::size_t id) {
   const Measurement* alone = &measurement;
-  const Gaussian3 estimate = state_.registration.active() ? state_.registration.combine(std::span(&alone, 1))
-                                                          : measurement.position;
+  const Gaussian3 estimate = joint()                      ? state_.joint.corrected(measurement)
+                             : state_.registration.active() ? state_.registration.combine(std::span(&alone, 1))
+                                                            : measurement.position;
   results_.push_back(Result{id, estimate, std::nullopt});
   ++late_measurements_;
 }
@@ -172,6 +173,7 @@ void SceneFilter::start(Event& event) {
       ++state_.restarted_tracks;
     }
   }
+  close_frames(event.time);
   event.started = true;
 }
 
@@ -179,7 +181,9 @@ bool SceneFilter::request_forecasts(const Event& event) {
   std::vector<std::string> groups;  // track groups with a track that needs a forecast
   for (const Row& row : event.rows) {
     const TrackKey key = key_of(row.measurement);
-    if (state_.tracks.at(key).needs_forecast() && std::find(groups.begin(), groups.end(), key.first) == groups.end()) {
+    const ObjectTrack& track = state_.tracks.at(key);
+    if (track.needs_forecast() &&
+        std::find(groups.begin(), groups.end(), key.first) == groups.end()) {
       groups.push_back(key.first);
     }
   }
@@ -222,32 +226,68 @@ void SceneFilter::provide_forecasts(const std::vector<std::vector<MotionForecast
   request_keys_.clear();
 }
 
-void SceneFilter::learn_from(const RegistrationGroup& group) {
-  std::vector<RegistrationObservation> observations;
-  for (std::size_t k = 0; k < group.measurements.size(); ++k) {
-    const Measurement& measurement = group.measurements[k];
-    observations.push_back(
-        {measurement.view, measurement.position.mean(), measurement.position.covariance(), group.stated_covariances[k]});
+void SceneFilter::close_frames(double time) {
+  const double window = options_.tracks == TrackMode::kPerObject ? predictor_.history_spacing() : 0.0;
+  for (auto& [key, track] : state_.tracks) {
+    if (!track.has_frame()) continue;
+    const double age = time - track.frame_time();
+    if (!(age > kSameStepTolerance && age >= window)) continue;
+    // Jointly, later measurements of other objects may have refined this one's position through the
+    // offsets: the history gets what is known of it now.
+    if (joint()) track.update(track.state().time, state_.joint.position(key.second));
+    track.close_frame(predictor_);
   }
-  state_.registration.learn_object(observations);
 }
 
-void SceneFilter::close_registration_groups(double time) {
-  const double window = options_.tracks == TrackMode::kPerObject ? predictor_.history_spacing() : 0.0;
-  for (auto it = state_.groups.begin(); it != state_.groups.end();) {
-    const double age = time - it->second.start;
-    if (!(age > kSameStepTolerance && age >= window)) {
-      ++it;
-      continue;
+Eigen::Matrix<double, 6, 1> SceneFilter::registration_offset(std::string_view view) const {
+  return joint() ? state_.joint.offset(view) : state_.registration.offset(view);
+}
+
+void SceneFilter::process_joint(Event& event) {
+  const double time = event.time;
+  const ProcessNoiseScale scale = state_.process_noise_scale;  // λ from the earlier events
+  for (std::size_t first = 0; first < event.rows.size();) {
+    const std::string& object = event.rows[first].measurement.object;
+    std::size_t end = first;
+    while (end < event.rows.size() && event.rows[end].measurement.object == object) ++end;
+    ObjectTrack& track = state_.tracks[key_of(event.rows[first].measurement)];
+    std::size_t next = first;
+    std::optional<Prediction> reported_prediction;
+    if (track.empty()) {
+      state_.joint.remove_object(object);  // a track that started again
+      state_.joint.add_object(event.rows[next++].measurement);
+    } else {
+      const ObjectTrack::Motion motion = track.motion_to(time, predictor_, scale);
+      const Gaussian3 before = state_.joint.position(object);
+      state_.joint.predict(object, motion.displacement, motion.covariance);
+      reported_prediction = Prediction{before.mean() + motion.displacement, before.covariance(), motion.interval,
+                                       track.history().size()};
+      if (!track.has_frame() && track.history().size() >= 2 && options_.adapt_process_noise) {
+        const JointRegistration::Innovation innovation = state_.joint.innovation(event.rows[first].measurement);
+        state_.process_noise_scale.add(innovation.value, innovation.covariance - motion.covariance,
+                                       motion.process_noise);
+      }
     }
-    learn_from(it->second);
-    it = state_.groups.erase(it);
+    for (; next < end; ++next) state_.joint.update(event.rows[next].measurement);
+    const Gaussian3 fused = state_.joint.position(object);
+    if (!track.has_frame()) track.open_frame(time);
+    track.update(time, fused);
+    for (std::size_t k = first; k < end; ++k) {
+      Row& row = event.rows[k];
+      if (row.reported) continue;
+      results_.push_back(Result{row.id, fused, reported_prediction});
+      row.reported = true;
+    }
+    first = end;
   }
 }
 
 void SceneFilter::process(Event& event) {
+  if (joint()) {
+    process_joint(event);
+    return;
+  }
   const double time = event.time;
-  close_registration_groups(time);
   const ProcessNoiseScale scale = state_.process_noise_scale;  // λ from the earlier events
   struct Innovation {
     Vector3d value;
@@ -273,19 +313,21 @@ void SceneFilter::process(Event& event) {
     // kPerObject: one track for all rows; kPerView: one per row.
     const std::size_t track_count = options_.tracks == TrackMode::kPerObject ? 1 : end - first;
     for (std::size_t t = 0; t < track_count; ++t) {
-      const TrackKey key = key_of(event.rows[first + t].measurement);
-      ObjectTrack& track = state_.tracks[key];
+      ObjectTrack& track = state_.tracks[key_of(event.rows[first + t].measurement)];
       std::optional<TrackPrediction> prediction;
       if (!track.empty()) prediction = track.predict(time, predictor_, scale);
       // The diffuse start is the limit P⁻¹ → 0 of the update: the combined measurement itself.
       const Gaussian3 fused = !prediction   ? combined
                               : registration ? multi_view_update(prediction->prior, std::span(&combined, 1))
                                              : multi_view_update(prediction->prior, positions);
-      if (prediction && prediction->history_positions >= 2 && options_.adapt_process_noise && !innovation) {
+      const bool opens_frame = !track.has_frame();
+      if (opens_frame && prediction && prediction->history_positions >= 2 && options_.adapt_process_noise &&
+          !innovation) {
         innovation = Innovation{combined.mean() - prediction->prior.mean(),
                                 prediction->state_covariance + combined.covariance(), prediction->process_noise};
       }
-      track.update(time, fused, predictor_);
+      if (opens_frame) track.open_frame(time);
+      track.update(time, fused);
       std::optional<Prediction> reported_prediction;
       if (prediction) {
         reported_prediction = Prediction{prediction->prior.mean(), prediction->state_covariance, prediction->interval,
@@ -301,36 +343,12 @@ void SceneFilter::process(Event& event) {
       }
     }
     if (innovation) innovations.push_back(*innovation);
-    if (registration) {
-      // The measurements join the object's registration group, moved back to its start along the forecast.
-      RegistrationGroup* group = nullptr;
-      double start = time;
-      Vector3d displacement = Vector3d::Zero();
-      Matrix3d alignment = Matrix3d::Zero();
-      if (options_.tracks == TrackMode::kPerObject) {
-        const ObjectTrack& track = state_.tracks.at(key_of(*rows.front()));
-        start = track.history().back().time;
-        std::tie(displacement, alignment) = track.displacement_since_history(time, predictor_, scale);
-      }
-      auto found = state_.groups.find(object);
-      if (found != state_.groups.end() && std::abs(found->second.start - start) > kSameStepTolerance) {
-        // The track started a new history position before a spacing had passed (it restarted after a
-        // horizon shorter than the spacing): the old group ends here.
-        learn_from(found->second);
-        state_.groups.erase(found);
-        found = state_.groups.end();
-      }
-      if (found == state_.groups.end()) found = state_.groups.emplace(object, RegistrationGroup{start, {}, {}}).first;
-      group = &found->second;
-      for (const Measurement* measurement : rows) {
-        Measurement moved = *measurement;
-        const Matrix3d& stated = measurement->position.covariance();
-        moved.position = Gaussian3::from_covariance(measurement->position.mean() - displacement, stated + alignment);
-        group->measurements.push_back(std::move(moved));
-        group->stated_covariances.push_back(stated);
-      }
-    }
     first = end;
+  }
+  if (options_.tracks == TrackMode::kPerView && registration) {
+    std::vector<const Measurement*> measurements;
+    for (const Row& row : event.rows) measurements.push_back(&row.measurement);
+    state_.registration.learn(measurements);
   }
   for (const Innovation& innovation : innovations) {
     state_.process_noise_scale.add(innovation.value, innovation.known_covariance, innovation.process_noise);

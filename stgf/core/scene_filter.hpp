@@ -15,19 +15,26 @@
 //
 // ── Events ───────────────────────────────────────────────────────────────────────────────────────
 // Measurements are grouped by time (within kSameStepTolerance) into events, processed in time order.
-// Processing the event at time t:
-//   1. tracks of its objects not updated for longer than the predictor's horizon start again (counted);
+// Each track's measurements fall into frames (object_track.hpp): a frame opens at the first event
+// that measures the object after the previous one closed, and closes once the frame window has passed
+// (kPerObject: the predictor's history_spacing(); kPerView: any later time). Processing the event at t:
+//   1. tracks of its objects not updated for longer than the predictor's horizon start again
+//      (counted); every open frame the window has passed closes: the track's state becomes a history
+//      position;
 //   2. tracks about to be predicted need a forecast if their history changed since the last one: the
 //      filter stops and requests one graph per track group (the scene, or the view) holding every live
 //      track (history not empty, state within the horizon of t), and continues once provided;
-//   3. registration groups old enough are learnt from (view_registration.hpp, asynchronous views): in
-//      kPerObject an object's measurements since its last history position, moved back to it along
-//      the forecast, once t is a history spacing past it; in kPerView the measurements of one time;
-//   4. per object, in name order: the event's measurements are combined (registration-corrected, or
-//      the information-weighted mean) and fused with each track's prediction to t (the diffuse start
-//      P⁻¹ = 0 for an empty track gives the combined measurement itself), and the tracks updated;
-//   5. per object with a prediction from a history of two or more positions, the innovation of its
-//      combined measurement teaches the scale of Q (process_noise_scale.hpp).
+//   3. per object, in name order, each of its tracks is predicted to t and updated with the event's
+//      measurements of the object (the diffuse start P⁻¹ = 0 for an empty track: its first estimate is
+//      the measurements alone); the fused estimate is the track's new state and each measurement's
+//      estimate. With a registration prior, kPerObject estimates every position and every view's
+//      offset jointly (joint_registration.hpp): each measurement updates both, so offsets are learnt
+//      from views that never measure at the same time. kPerView corrects the measurements by the
+//      offsets of view_registration.hpp, combines them into one, and learns the offsets from the
+//      event's cross-view differences afterwards; without a prior, both are the multi-view update;
+//   4. per object whose frame opens here with a prediction from two or more history positions, the
+//      innovation of its (first) measurement teaches the scale of Q (process_noise_scale.hpp).
+// On synchronised views at the model's rate a frame is one event, and this is DESIGN §1's filter.
 // Within an event, rows are taken in (object, view) order, so the result does not depend on the order
 // in which they were given.
 //
@@ -57,6 +64,7 @@
 #include <string>
 #include <vector>
 
+#include "stgf/core/joint_registration.hpp"
 #include "stgf/core/object_track.hpp"
 #include "stgf/core/process_noise_scale.hpp"
 #include "stgf/core/records.hpp"
@@ -124,7 +132,8 @@ class SceneFilter {
   std::size_t late_measurements() const { return late_measurements_; }  // too late for the window
   std::size_t rewinds() const { return rewinds_; }                      // went back for a late measurement
   const Vector3d& process_noise_scales() const { return state_.process_noise_scale.scales(); }
-  const ViewRegistration& registration() const { return state_.registration; }
+  // The estimated registration offset of a view (t, δ; zero for a zero prior or an unknown view).
+  Eigen::Matrix<double, 6, 1> registration_offset(std::string_view view) const;
   // The latest event time processed (−∞ before any).
   double latest_time() const { return latest_time_; }
 
@@ -140,17 +149,12 @@ class SceneFilter {
     bool started = false;   // step 1 done
   };
   using TrackKey = std::pair<std::string, std::string>;  // (view or "" in kPerObject, object)
-  struct RegistrationGroup {
-    double start;
-    std::vector<Measurement> measurements;  // moved to `start`; covariance R + alignment
-    std::vector<Matrix3d> stated_covariances;  // R
-  };
   // Everything a checkpoint restores.
   struct State {
     std::map<TrackKey, ObjectTrack> tracks;
-    ViewRegistration registration;
+    ViewRegistration registration;  // kPerView
+    JointRegistration joint;        // kPerObject, with a registration prior
     ProcessNoiseScale process_noise_scale;
-    std::map<std::string, RegistrationGroup> groups;  // by object
     std::size_t restarted_tracks = 0;
   };
   struct Checkpoint {
@@ -163,8 +167,9 @@ class SceneFilter {
   void rewind_to(double time);
   void start(Event& event);
   bool request_forecasts(const Event& event);
-  void close_registration_groups(double time);
-  void learn_from(const RegistrationGroup& group);
+  void close_frames(double time);
+  bool joint() const { return options_.tracks == TrackMode::kPerObject && state_.joint.active(); }
+  void process_joint(Event& event);
   void process(Event& event);
   void prune();
   void leave_out(const Measurement& measurement, std::size_t id);

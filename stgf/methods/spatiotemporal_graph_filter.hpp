@@ -51,7 +51,8 @@ class SpatiotemporalGraphFilter final : public Localizer {
   std::size_t late_measurements() const { return filter_.late_measurements(); }
   std::size_t rewinds() const { return filter_.rewinds(); }  // went back in time for a late measurement
   const Vector3d& process_noise_scales() const { return filter_.process_noise_scales(); }
-  const ViewRegistration& registration() const { return filter_.registration(); }
+  // The estimated registration offset (t, δ) of a view (view_registration.hpp).
+  Eigen::Matrix<double, 6, 1> registration_offset(std::string_view view) const { return filter_.registration_offset(view); }
 
  private:
   const MotionPredictor& predictor_;

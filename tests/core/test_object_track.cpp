@@ -1,6 +1,6 @@
-// A track's prediction in continuous time (core/object_track.hpp): along one forecast the process
-// noise grows as Q(τ) − Q(τ_s) between updates, so it adds up to Q(τ) however often the track is
-// updated; history positions start only a history spacing apart.
+// A track in continuous time (core/object_track.hpp): predictions from its state along the forecast,
+// the process noise grown by Q(τ) − Q(τ_s), so it adds up to Q(τ) however many updates came in
+// between; a closed frame leaves the state as the next history position.
 
 #include "stgf/core/object_track.hpp"
 
@@ -9,51 +9,70 @@
 namespace stgf {
 namespace {
 
-TEST(ObjectTrack, PredictsAlongTheForecastAndGrowsQByItsIncrement) {
-  const ConstantVelocityPredictor predictor(/*q=*/2.0, /*speed=*/1.0, /*horizon=*/10.0, /*history_spacing=*/0.09);
+// A frame with one update at its own time, closed: the update becomes a history position.
+void add_history_position(ObjectTrack& track, double time, const Vector3d& z, const Matrix3d& p,
+                          const MotionPredictor& predictor) {
+  track.open_frame(time);
+  track.update(time, Gaussian3::from_covariance(z, p));
+  track.close_frame(predictor);
+}
+
+TEST(ObjectTrack, MovesMeasurementsAlongTheForecastAndGrowsQByItsIncrement) {
+  const ConstantVelocityPredictor predictor(/*q=*/2.0, /*speed=*/1.0);
   const ProcessNoiseScale scale;  // λ = 1
   const Matrix3d p = 0.01 * Matrix3d::Identity();
   ObjectTrack track;
-  track.update(0.0, Gaussian3::from_covariance(Vector3d(0, 0, 0), p), predictor);
-  track.update(0.1, Gaussian3::from_covariance(Vector3d(0.1, 0, 0), p), predictor);
+  add_history_position(track, 0.0, Vector3d(0, 0, 0), p, predictor);
+  add_history_position(track, 0.1, Vector3d(0.1, 0, 0), p, predictor);  // 1 m/s along x
   ASSERT_EQ(track.history().size(), 2u);
   ASSERT_TRUE(track.needs_forecast());
   track.set_forecast(predictor.forecast(std::vector<MotionGraph>{
       {"s", "", 0.2, {{"o", {Vector3d(0, 0, 0), Vector3d(0.1, 0, 0)}, {0.0, 0.1}}}}})[0][0]);
-  // 0.13: 0.03 s after the last history position, from the state at 0.1.
-  TrackPrediction first = track.predict(0.13, predictor, scale);
+  // The prediction to 0.13 (τ = 0.03); an update there opens a frame.
+  const TrackPrediction first = track.predict(0.13, predictor, scale);
   EXPECT_LT((first.prior.mean() - Vector3d(0.13, 0, 0)).norm(), 1e-12);
   EXPECT_LT((first.prior.covariance() - (p + 2.0 * 0.03 * 0.03 * Matrix3d::Identity())).norm(), 1e-15);
-  // An update 0.03 s later refines the state without a new history position (spacing 0.09).
-  track.update(0.13, Gaussian3::from_covariance(Vector3d(0.135, 0, 0), p), predictor);
-  EXPECT_EQ(track.history().size(), 2u);
-  EXPECT_FALSE(track.needs_forecast());
+  track.open_frame(0.13);
+  track.update(0.13, Gaussian3::from_covariance(Vector3d(0.135, 0, 0), p));
   // To 0.16: from the state at 0.13 (τ_s = 0.03) along the same forecast to τ = 0.06.
   const TrackPrediction second = track.predict(0.16, predictor, scale);
   EXPECT_LT((second.prior.mean() - Vector3d(0.135 + 0.03, 0, 0)).norm(), 1e-12);
-  const double increment = 2.0 * (0.06 * 0.06 - 0.03 * 0.03);
-  EXPECT_LT((second.prior.covariance() - (p + increment * Matrix3d::Identity())).norm(), 1e-15);
+  const double growth = 2.0 * (0.06 * 0.06 - 0.03 * 0.03);
+  EXPECT_LT((second.prior.covariance() - (p + growth * Matrix3d::Identity())).norm(), 1e-15);
   EXPECT_NEAR(second.interval * second.interval, 0.06 * 0.06 - 0.03 * 0.03, 1e-15);
   // The increments telescope: Q(0.03) + [Q(0.06) − Q(0.03)] = Q(0.06), as one update at 0.16 would add.
   EXPECT_NEAR(first.process_noise(0, 0) + second.process_noise(0, 0), 2.0 * 0.06 * 0.06, 1e-15);
-  // A spacing after the last history position, an update starts a new one and drops the forecast.
-  track.update(0.2, Gaussian3::from_covariance(Vector3d(0.2, 0, 0), p), predictor);
-  EXPECT_EQ(track.history().size(), 2u);  // the CV predictor keeps two
-  EXPECT_EQ(track.history().back().time, 0.2);
+  // The motion alone, as the joint estimate of positions and offsets applies it.
+  const ObjectTrack::Motion motion = track.motion_to(0.16, predictor, scale);
+  EXPECT_LT((motion.displacement - Vector3d(0.03, 0, 0)).norm(), 1e-12);
+  EXPECT_LT((motion.covariance - growth * Matrix3d::Identity()).norm(), 1e-15);
+  track.update(0.16, Gaussian3::from_covariance(Vector3d(0.166, 0, 0), p));
+  // Closing makes the state (at 0.16, with every measurement of the frame) the next history position.
+  EXPECT_FALSE(track.needs_forecast());
+  track.close_frame(predictor);
+  EXPECT_EQ(track.history().size(), 2u);  // the constant-velocity predictor keeps two
+  EXPECT_EQ(track.history().back().time, 0.16);
   EXPECT_TRUE(track.needs_forecast());
+  EXPECT_FALSE(track.has_frame());
 }
 
 TEST(ObjectTrack, OneHistoryPositionAddsTheUnknownSpeedsSpread) {
   const ConstantVelocityPredictor predictor(1.0, /*speed=*/1.5);
   ObjectTrack track;
   const Matrix3d p = 0.04 * Matrix3d::Identity();
-  track.update(1.0, Gaussian3::from_covariance(Vector3d(1, 2, 0), p), predictor);
+  add_history_position(track, 1.0, Vector3d(1, 2, 0), p, predictor);
   track.set_forecast(MotionForecast{});
   const TrackPrediction prediction = track.predict(1.2, predictor, ProcessNoiseScale{});
   EXPECT_EQ(prediction.prior.mean(), Vector3d(1, 2, 0));
   const double variance = 0.04 + 1.0 * 0.2 * 0.2 + 1.5 * 1.5 * 0.2 * 0.2;
   EXPECT_LT((prediction.prior.covariance() - variance * Matrix3d::Identity()).norm(), 1e-14);
   EXPECT_THROW(track.predict(1.0, predictor, ProcessNoiseScale{}), std::logic_error);
+  // Without any history, a prediction keeps the position, with the unknown speed's spread and Q.
+  ObjectTrack fresh;
+  fresh.update(0.0, Gaussian3::from_covariance(Vector3d(1, 2, 0), p));
+  const TrackPrediction standing = fresh.predict(0.1, predictor, ProcessNoiseScale{});
+  EXPECT_EQ(standing.prior.mean(), Vector3d(1, 2, 0));
+  EXPECT_LT((standing.prior.covariance() - (0.04 + 0.01 + 1.5 * 1.5 * 0.01) * Matrix3d::Identity()).norm(), 1e-15);
 }
 
 }  // namespace

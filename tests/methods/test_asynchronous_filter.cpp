@@ -118,17 +118,21 @@ TEST(AsynchronousFilter, AnyArrivalOrderWithinTheWindowEndsInTheInOrderState) {
     SpatiotemporalGraphFilter shuffled(kPredictor, options_with_registration());
     double latest = -1.0;
     std::size_t late_rows_checked = 0;
+    std::vector<bool> arrived(stream.rows.size(), false);
     for (const auto& [arrival, k] : arrivals) {
       const Gaussian3 estimate = shuffled.fuse(std::span(&stream.rows[k], 1))[0];
-      // A row that arrives after every row measured before it gets the in-order answer.
-      bool all_earlier_arrived = true;
-      for (const auto& [other_arrival, j] : arrivals) {
-        if (stream.rows[j].time < stream.rows[k].time && other_arrival > arrival) all_earlier_arrived = false;
+      // A row that arrives after exactly the rows in-order delivery had fused by its time (every row
+      // measured before it, and those of its own time listed before it) gets the in-order answer.
+      bool same_knowledge = true;
+      for (std::size_t j = 0; j < stream.rows.size(); ++j) {
+        if (j == k || stream.rows[j].time > stream.rows[k].time) continue;
+        if (arrived[j] != (j < k)) same_knowledge = false;
       }
-      if (all_earlier_arrived && stream.rows[k].time < latest) {
+      if (same_knowledge && stream.rows[k].time < latest) {
         EXPECT_LE((estimate.mean() - in_order_estimates[k].mean()).norm(), 1e-9) << "row " << k;
         ++late_rows_checked;
       }
+      arrived[k] = true;
       latest = std::max(latest, stream.rows[k].time);
     }
     EXPECT_GT(late_rows_checked, 10u);
@@ -182,8 +186,7 @@ TEST(AsynchronousFilter, RegistrationOffsetsConvergeOnAsynchronousViews) {
   const Stream stream = make_stream(150, /*asynchronous=*/true, 11);
   SpatiotemporalGraphFilter filter(kPredictor, options_with_registration());
   filter.fuse(stream.rows);
-  const ViewRegistration& registration = filter.registration();
-  const auto translation = [&](const char* view) { return Vector3d(registration.offset(view).head<3>()); };
+  const auto translation = [&](const char* view) { return Vector3d(filter.registration_offset(view).head<3>()); };
   for (const auto& [u, w] : std::vector<std::pair<const char*, const char*>>{{"a", "b"}, {"a", "c"}, {"b", "c"}}) {
     const Vector3d estimated = translation(u) - translation(w);
     const Vector3d truth = stream.offsets.at(u) - stream.offsets.at(w);
