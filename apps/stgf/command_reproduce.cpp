@@ -45,7 +45,7 @@ namespace {
 namespace fs = std::filesystem;
 
 // Bump when training changes in a way that makes older reproduce models stale.
-constexpr int kTrainingRecipeVersion = 5;  // 5: one track per object in the filter-regime Q
+constexpr int kTrainingRecipeVersion = 6;  // 6: one track per object, offsets estimated jointly, in the filter-regime Q
 constexpr int kFromStep = 2;
 const char* const kRegistrationOff = "ours-registration-off";
 // `ours` with the paper's per-view tracks instead of one track per object.
@@ -93,13 +93,31 @@ void write_stamp(const fs::path& stamp, const nlohmann::json& recipe, double sec
 
 int epochs_of(const ReproduceOptions& options) { return options.epochs > 0 ? options.epochs : options.quick ? 3 : 8; }
 
-nlohmann::json benchmark_recipe(const std::string& name, const ReproduceOptions& options) {
+nlohmann::json benchmark_recipe(const std::string& name, const ReproduceOptions& options,
+                                const ViewClockOptions& clocks = {}) {
   nlohmann::json recipe = {{"benchmark", name},
                            {"seed", options.seed},
                            {"quick", options.quick},
                            {"source", name == "mpl" ? options.mpl_source : options.kitti_source}};
   if (!options.instances.empty()) recipe["instances"] = options.instances;
+  if (clocks.asynchronous || clocks.latency_s > 0.0) {
+    recipe["clocks"] = {{"asynchronous", clocks.asynchronous}, {"jitter_s", clocks.jitter_s}, {"latency_s", clocks.latency_s}};
+  }
   return recipe;
+}
+
+// The asynchronous variants of each benchmark: the same data with each view on its own clock (phase
+// uniform in one frame period, 2 ms jitter), without and with message latency (uniform 0–150 ms).
+struct ClockVariant {
+  std::string suffix;  // of the benchmark's folder and name
+  ViewClockOptions clocks;
+};
+std::vector<ClockVariant> clock_variants() {
+  ViewClockOptions asynchronous;
+  asynchronous.asynchronous = true;
+  ViewClockOptions late = asynchronous;
+  late.latency_s = 0.15;
+  return {{"async", asynchronous}, {"async-latency", late}};
 }
 
 // The seed, source and split sizes of a benchmark's options (MplOptions or CadOptions): --quick's
@@ -119,15 +137,32 @@ BenchmarkOptions sized_options(const ReproduceOptions& options, const std::strin
   return benchmark;
 }
 
-Benchmark make_benchmark(const std::string& name, const ReproduceOptions& options) {
-  if (name == "mpl") return make_mpl_benchmark(sized_options<MplOptions>(options, options.mpl_source, {300, 150, 300}));
-  return make_cad_benchmark(sized_options<CadOptions>(options, options.kitti_source, {300, 100, 300}));
+Benchmark make_benchmark(const std::string& name, const ReproduceOptions& options, const ViewClockOptions& clocks) {
+  if (name == "mpl") {
+    MplOptions mpl = sized_options<MplOptions>(options, options.mpl_source, {300, 150, 300});
+    mpl.clocks = clocks;
+    return make_mpl_benchmark(mpl);
+  }
+  CadOptions cad = sized_options<CadOptions>(options, options.kitti_source, {300, 100, 300});
+  cad.clocks = clocks;
+  return make_cad_benchmark(cad);
+}
+
+// The median interval between a scene's steps (the frame period of a synchronous split).
+double frame_period(std::span<const Measurement> rows) {
+  std::vector<double> intervals;
+  for (const Scene& scene : group_into_scenes(rows)) {
+    for (std::size_t k = 1; k < scene.steps.size(); ++k) intervals.push_back(scene.steps[k].time - scene.steps[k - 1].time);
+  }
+  if (intervals.empty()) return 0.0;
+  std::nth_element(intervals.begin(), intervals.begin() + static_cast<std::ptrdiff_t>(intervals.size() / 2), intervals.end());
+  return intervals[intervals.size() / 2];
 }
 
 struct Progress {
   std::string benchmark;
   int stage = 0;
-  static constexpr int kStages = 5;
+  static constexpr int kStages = 6;
   void next(const std::string& what) {
     ++stage;
     spdlog::info("[{} {}/{}] {}", benchmark, stage, kStages, what);
@@ -135,8 +170,8 @@ struct Progress {
 };
 
 void ensure_benchmark(const std::string& name, const fs::path& folder, const ReproduceOptions& options,
-                      Progress& progress, std::map<std::string, double>& timings) {
-  const nlohmann::json recipe = benchmark_recipe(name, options);
+                      Progress& progress, std::map<std::string, double>& timings, const ViewClockOptions& clocks = {}) {
+  const nlohmann::json recipe = benchmark_recipe(name, options, clocks);
   const fs::path stamp = folder / "reproduce-recipe.json";
   if (const auto seconds = stamp_matches(stamp, recipe); seconds && fs::exists(folder / "benchmark.json")) {
     progress.next("benchmark: reusing " + folder.string());
@@ -145,7 +180,7 @@ void ensure_benchmark(const std::string& name, const fs::path& folder, const Rep
   }
   progress.next("benchmark: building " + folder.string());
   const Stopwatch watch;
-  write_benchmark_folder(folder.string(), make_benchmark(name, options));
+  write_benchmark_folder(folder.string(), make_benchmark(name, options, clocks));
   timings["build benchmark"] = watch.seconds();
   write_stamp(stamp, recipe, timings["build benchmark"]);
 }
@@ -276,6 +311,35 @@ BenchmarkResult reproduce_benchmark(const std::string& name, const ReproduceOpti
 
   progress.next(draw ? "figures" : "figures: gnuplot not found, writing data and scripts only");
   draw_figures(name, result.evaluation, truth, estimate_files, out / "figures", draw, result.figures);
+
+  // The same test data on unsynchronised clocks, scored from the same point in time (two frame periods).
+  progress.next("asynchronous views: the test split with each view on its own clock, without and with latency");
+  const double from_time = kFromStep * frame_period(measurements.rows) - 1e-3;
+  for (const ClockVariant& variant : clock_variants()) {
+    const std::string variant_name = name + "-" + variant.suffix;
+    const fs::path variant_folder = out / "benchmarks" / variant_name;
+    Progress quiet{variant_name};
+    std::map<std::string, double> timings;
+    ensure_benchmark(name, variant_folder, options, quiet, timings, variant.clocks);
+    const MeasurementFile rows = read_measurements((variant_folder / "test" / "measurements.csv").string());
+    const fs::path variant_estimates = out / "estimates" / variant_name;
+    fs::create_directories(variant_estimates);
+    std::vector<EstimateFile> variant_files;
+    for (const std::string& method : all_method_names()) {
+      const MotionModel* model = method == "sttp" ? &raw : is_learned_method(method) ? &fused : nullptr;
+      const fs::path& model_path = method == "sttp" ? raw_model : fused_model;
+      variant_files.push_back(read_estimates(
+          run_and_write(method, method, config, model, model_path.string(), rows, variant_estimates, timings)
+              .string()));
+    }
+    variant_files.push_back(read_estimates(run_and_write("ours", kRegistrationOff, without_registration, &fused,
+                                                         fused_model.string(), rows, variant_estimates, timings)
+                                               .string()));
+    for (const auto& [stage, seconds] : timings) result.timings[variant.suffix + ": " + stage] = seconds;
+    const TruthFile variant_truth = read_truth((variant_folder / "test" / "truth.csv").string());
+    result.clock_variants.push_back(
+        {variant.suffix, variant.clocks.latency_s, evaluate(variant_truth, variant_files, &rows, ScoringStart{0, from_time})});
+  }
   return result;
 }
 

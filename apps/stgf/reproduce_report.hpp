@@ -20,6 +20,13 @@ struct BenchmarkResult {
   nlohmann::json registration;            // the registration prior `ours` ran with (model metadata)
   std::map<std::string, double> timings;  // seconds per stage
   std::vector<std::string> figures;       // stems of the figures drawn (in figures/)
+  // The test split with each view on its own clock (and with message latency), every method.
+  struct ClockVariantResult {
+    std::string suffix;        // async, async-latency
+    double latency_s = 0.0;    // the largest message delay
+    Evaluation evaluation;
+  };
+  std::vector<ClockVariantResult> clock_variants;
 };
 
 struct ReproduceSummary {
