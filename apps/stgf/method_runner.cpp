@@ -44,8 +44,8 @@ std::vector<Gaussian3> run_named_method(const std::string& method, const MethodC
                  "of {:.2f} s (twice the longest interval it trained on)",
                  method, restarted, model->prediction_horizon());
   };
-  if (method != "ours") {
-    std::vector<Gaussian3> estimates = run_learned_method(method, *model, rows, &restarted);
+  if (method == "sttp") {
+    std::vector<Gaussian3> estimates = run_single_view_prediction(*model, rows, &restarted);
     report_restarts();
     return estimates;
   }
@@ -62,9 +62,19 @@ std::vector<Gaussian3> run_named_method(const std::string& method, const MethodC
   options.tracks = config.ours.per_view_tracks ? TrackMode::kPerView : TrackMode::kPerObject;
   options.lag_window = config.ours.lag_window;
   options.late = config.ours.stop_on_late ? LatePolicy::kStop : LatePolicy::kLeaveOut;
-  FilterRun run = run_spatiotemporal_graph_filter(*model, options, rows);
+  // ours-l is the same filter's prediction of each row, before the update at its time (the row's own
+  // fused estimate where there is nothing to predict from: a first sighting).
+  const bool prediction_only = method == "ours-l";
+  FilterRun run = run_spatiotemporal_graph_filter(*model, options, rows, /*keep_predictions=*/prediction_only);
   restarted = run.restarted_tracks;
   report_restarts();
+  if (prediction_only) {
+    for (std::size_t row = 0; row < rows.size(); ++row) {
+      if (const auto& prediction = run.predictions[row]) {
+        run.estimates[row] = Gaussian3::from_covariance(prediction->mean, prediction->covariance);
+      }
+    }
+  }
   if (run.rewinds > 0) {
     spdlog::info("{}: {} late row(s) fused in their place in time (arrived after later ones, within the lag window "
                  "of {} s)",

@@ -260,7 +260,8 @@ void SceneFilter::process_joint(Event& event) {
       const ObjectTrack::Motion motion = track.motion_to(time, predictor_, scale);
       const Gaussian3 before = state_.joint.position(object);
       state_.joint.predict(object, motion.displacement, motion.covariance);
-      reported_prediction = Prediction{before.mean() + motion.displacement, before.covariance(), motion.interval,
+      const Gaussian3 predicted = state_.joint.position(object);
+      reported_prediction = Prediction{predicted.mean(), predicted.covariance(), before.covariance(), motion.interval,
                                        track.history().size()};
       if (!track.has_frame() && track.history().size() >= 2 && options_.adapt_process_noise) {
         const JointRegistration::Innovation innovation = state_.joint.innovation(event.rows[first].measurement);
@@ -330,7 +331,8 @@ void SceneFilter::process(Event& event) {
       track.update(time, fused);
       std::optional<Prediction> reported_prediction;
       if (prediction) {
-        reported_prediction = Prediction{prediction->prior.mean(), prediction->state_covariance, prediction->interval,
+        reported_prediction = Prediction{prediction->prior.mean(), prediction->prior.covariance(),
+                                         prediction->state_covariance, prediction->interval,
                                          prediction->history_positions};
       }
       const std::size_t row_first = options_.tracks == TrackMode::kPerObject ? first : first + t;

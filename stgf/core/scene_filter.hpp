@@ -116,6 +116,7 @@ class SceneFilter {
   // A measurement's result, once processed.
   struct Prediction {  // what the track predicted for it before the update
     Vector3d mean;
+    Matrix3d covariance;        // P (the prediction's whole covariance)
     Matrix3d state_covariance;  // P̂_s
     double interval = 0.0;      // see TrackPrediction
     std::size_t history_positions = 0;
