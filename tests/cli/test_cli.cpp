@@ -340,13 +340,17 @@ TEST_F(Cli, ReproduceWritesTablesAndFiguresAndReuses) {
                                    "| ours-registration-off |"}) {
     EXPECT_THAT(first.out, HasSubstr(method));
   }
-  EXPECT_THAT(first.err, HasSubstr("[mpl 5/5]"));
+  EXPECT_THAT(first.err, HasSubstr("[mpl 6/6]"));
   const std::string results = slurp(directory_ / "r/results.md");
   EXPECT_THAT(results, HasSubstr("## Table I"));
   EXPECT_THAT(results, HasSubstr("ours / aom"));
   EXPECT_THAT(results, HasSubstr("## Registration error"));
+  EXPECT_THAT(results, HasSubstr("## Asynchronous views"));
+  EXPECT_THAT(results, HasSubstr("| mpl | own clocks, latency 0–150 ms | ours |"));
+  EXPECT_THAT(results, HasSubstr("| ours-per-view |"));
   EXPECT_THAT(slurp(directory_ / "r/results.json"), HasSubstr("\"ours-registration-off\""));
   for (const std::string file : {"r/models/mpl.pt", "r/models/mpl-sttp.pt", "r/estimates/mpl/ours.csv",
+                                 "r/estimates/mpl-async/ours.csv", "r/estimates/mpl-async-latency/ours.csv",
                                  "r/figures/views-mpl.gp", "r/figures/views-mpl.dat", "r/figures/trajectories-mpl.gp"}) {
     EXPECT_TRUE(exists(file)) << file;
   }
