@@ -283,6 +283,30 @@ TEST_F(Cli, TrainThenRunLearnedMethods) {
   EXPECT_THAT(eval.out, HasSubstr("| sttp |"));
 }
 
+// Rows with an arrival column are fused in arrival order; one later than the lag window is left out
+// with a warning, or stops the run at its line with `late_measurements: stop`.
+TEST_F(Cli, LateRowsAreFusedInPlaceOrReportedAtTheirLine) {
+  ASSERT_EQ(stgf("dataset synthetic --out bench --seed 4 --scenes 1 --objects 2 --views 2 --steps 6").status, 0);
+  ASSERT_EQ(stgf("train --benchmark bench --out fused.pt --input fused --epochs 1 --threads 1").status, 0);
+  const std::string header = "scene,t,view,object,x,y,z,cov_xx,cov_xy,cov_xz,cov_yy,cov_yz,cov_zz,arrival\n";
+  write("m.csv", header +
+                     "s,0.0,v1,o1,0,0,0,1,0,0,1,0,1,0.01\n"
+                     "s,0.1,v1,o1,0.1,0,0,1,0,0,1,0,1,0.11\n"
+                     "s,0.2,v1,o1,0.2,0,0,1,0,0,1,0,1,0.21\n"
+                     "s,0.15,v2,o1,0.15,0,0,1,0,0,1,0,1,0.3\n"   // late, within the window
+                     "s,3.0,v1,o1,3.0,0,0,1,0,0,1,0,1,3.01\n"
+                     "s,0.5,v2,o1,0.5,0,0,1,0,0,1,0,1,3.5\n");  // 2.5 s late: beyond the 1 s window
+  Result result = stgf("run --method ours --model fused.pt --measurements m.csv --out e.csv");
+  ASSERT_EQ(result.status, 0) << result.err;
+  EXPECT_THAT(result.err, HasSubstr("1 late row(s) fused in their place in time"));
+  EXPECT_THAT(result.err, HasSubstr("1 row(s) arrived more than the lag window of 1 s late and were left out"));
+  write("stop.yaml", "ours:\n  late_measurements: stop\n");
+  result = stgf("run --method ours --model fused.pt --config stop.yaml --measurements m.csv --out e2.csv");
+  EXPECT_EQ(result.status, 2);
+  EXPECT_THAT(result.err, HasSubstr("m.csv:7: measured at t = 0.500000 s, it arrived after the scene had reached t = 3.000000 s"));
+  EXPECT_FALSE(exists("e2.csv"));
+}
+
 TEST_F(Cli, LearnedMethodsNeedTheRightModel) {
   write("m.csv", kHeader + kGoodRows);
   Result result = stgf("run --method sttp --measurements m.csv --out e.csv");
