@@ -4,26 +4,10 @@
 #include <stdexcept>
 
 namespace stgf {
-namespace {
-
 using Matrix36 = Eigen::Matrix<double, 3, 6>;
 
-// H = [I₃  L] with L Lᵀ = R.
-Matrix36 offset_jacobian(const Matrix3d& covariance) {
-  Matrix36 jacobian;
-  jacobian.leftCols<3>().setIdentity();
-  jacobian.rightCols<3>() = covariance.llt().matrixL();
-  return jacobian;
-}
-
-}  // namespace
-
-JointRegistration::JointRegistration(const RegistrationPrior& prior) : prior_(prior) {
-  ViewRegistration check(prior);  // validates the sigmas
-  prior_covariance_.setZero();
-  prior_covariance_.diagonal().head<3>() = prior.translation_sigma.cwiseProduct(prior.translation_sigma);
-  prior_covariance_.diagonal().tail<3>().setConstant(prior.noise_ratio * prior.noise_ratio);
-}
+JointRegistration::JointRegistration(const RegistrationPrior& prior)
+    : prior_(prior), prior_covariance_(prior.covariance()) {}
 
 Eigen::Index JointRegistration::grow(Eigen::Index size) {
   const Eigen::Index start = mean_.size();

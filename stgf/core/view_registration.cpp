@@ -6,34 +6,33 @@
 #include <vector>
 
 namespace stgf {
-namespace {
-
 using Matrix36 = Eigen::Matrix<double, 3, 6>;
 
-// H = [I₃  L] with L Lᵀ = R.
-Matrix36 offset_jacobian(const Matrix3d& covariance) {
+Matrix36 offset_jacobian(const Matrix3d& measurement_covariance) {
   Matrix36 jacobian;
   jacobian.leftCols<3>().setIdentity();
-  jacobian.rightCols<3>() = covariance.llt().matrixL();
+  jacobian.rightCols<3>() = measurement_covariance.llt().matrixL();
   return jacobian;
 }
 
-}  // namespace
-
-ViewRegistration::ViewRegistration(const RegistrationPrior& prior) : prior_(prior) {
+Eigen::Matrix<double, 6, 6> RegistrationPrior::covariance() const {
   for (int axis = 0; axis < 3; ++axis) {
-    const double sigma = prior.translation_sigma[axis];
+    const double sigma = translation_sigma[axis];
     if (!std::isfinite(sigma) || sigma < 0.0) {
       throw std::invalid_argument("registration translation sigma must be finite and >= 0");
     }
   }
-  if (!std::isfinite(prior.noise_ratio) || prior.noise_ratio < 0.0) {
+  if (!std::isfinite(noise_ratio) || noise_ratio < 0.0) {
     throw std::invalid_argument("registration noise ratio must be finite and >= 0");
   }
-  prior_covariance_.setZero();
-  prior_covariance_.diagonal().head<3>() = prior.translation_sigma.cwiseProduct(prior.translation_sigma);
-  prior_covariance_.diagonal().tail<3>().setConstant(prior.noise_ratio * prior.noise_ratio);
+  Eigen::Matrix<double, 6, 6> covariance = Eigen::Matrix<double, 6, 6>::Zero();
+  covariance.diagonal().head<3>() = translation_sigma.cwiseProduct(translation_sigma);
+  covariance.diagonal().tail<3>().setConstant(noise_ratio * noise_ratio);
+  return covariance;
 }
+
+ViewRegistration::ViewRegistration(const RegistrationPrior& prior)
+    : prior_(prior), prior_covariance_(prior.covariance()) {}
 
 int ViewRegistration::index_of(std::string_view view) const {
   const auto found = views_.find(view);

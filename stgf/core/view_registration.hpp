@@ -65,7 +65,12 @@ struct RegistrationPrior {
   Vector3d translation_sigma = Vector3d::Zero();  // σ of t along the world axes (m)
   double noise_ratio = 0.0;                       // α: σ of δ in units of the view's own noise
   bool is_zero() const { return translation_sigma.isZero() && noise_ratio == 0.0; }
+  // diag(σ_x², σ_y², σ_z², α², α², α²). Throws std::invalid_argument when a sigma is negative or not finite.
+  Eigen::Matrix<double, 6, 6> covariance() const;
 };
+
+// H = [I₃  L] with L Lᵀ = R: how a view's offset β = (t, δ) moves a measurement with covariance R.
+Eigen::Matrix<double, 3, 6> offset_jacobian(const Matrix3d& measurement_covariance);
 
 class ViewRegistration {
  public:

@@ -1,6 +1,8 @@
 #include "stgf/io/method_config_file.hpp"
 
+#include <algorithm>
 #include <cmath>
+#include <vector>
 #include <fstream>
 #include <sstream>
 
@@ -58,6 +60,16 @@ double non_negative_number(const std::string& path, const std::string& key, cons
   return value;
 }
 
+// One of `choices` (a YAML string).
+std::string one_of(const std::string& path, const std::string& key, const YAML::Node& node,
+                   const std::vector<std::string>& choices) {
+  const std::string value = node.IsScalar() ? node.as<std::string>() : std::string();
+  if (std::find(choices.begin(), choices.end(), value) == choices.end()) {
+    throw InputError(path, line_of(node), key + " must be " + choices[0] + " or " + choices[1]);
+  }
+  return value;
+}
+
 void read_ours(const std::string& path, const YAML::Node& node, OursSettings& settings) {
   if (node.IsNull()) return;  // a section whose keys are all commented out
   if (!node.IsMap()) throw InputError(path, line_of(node), "ours must be a mapping of settings");
@@ -89,19 +101,11 @@ void read_ours(const std::string& path, const YAML::Node& node, OursSettings& se
     } else if (key == "registration_noise_ratio") {
       settings.noise_ratio = non_negative_number(path, name, entry.second);
     } else if (key == "tracks") {
-      const std::string value = entry.second.IsScalar() ? entry.second.as<std::string>() : std::string();
-      if (value != "per-object" && value != "per-view") {
-        throw InputError(path, line_of(entry.second), name + " must be per-object or per-view");
-      }
-      settings.per_view_tracks = value == "per-view";
+      settings.per_view_tracks = one_of(path, name, entry.second, {"per-object", "per-view"}) == "per-view";
     } else if (key == "lag_window_s") {
       settings.lag_window = non_negative_number(path, name, entry.second);
     } else if (key == "late_measurements") {
-      const std::string value = entry.second.IsScalar() ? entry.second.as<std::string>() : std::string();
-      if (value != "leave-out" && value != "stop") {
-        throw InputError(path, line_of(entry.second), name + " must be leave-out or stop");
-      }
-      settings.stop_on_late = value == "stop";
+      settings.stop_on_late = one_of(path, name, entry.second, {"leave-out", "stop"}) == "stop";
     } else {
       throw InputError(path, line_of(entry.first), "unknown setting '" + name + "'");
     }

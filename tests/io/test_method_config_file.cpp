@@ -120,6 +120,23 @@ TEST(MethodConfigFile, ShippedConfigHoldsTheDefaults) {
   EXPECT_EQ(shipped.ours.registration, defaults.ours.registration);
   EXPECT_EQ(shipped.ours.translation_sigma.has_value(), defaults.ours.translation_sigma.has_value());
   EXPECT_EQ(shipped.ours.noise_ratio.has_value(), defaults.ours.noise_ratio.has_value());
+  EXPECT_EQ(shipped.ours.per_view_tracks, defaults.ours.per_view_tracks);
+  EXPECT_EQ(shipped.ours.lag_window, defaults.ours.lag_window);
+  EXPECT_EQ(shipped.ours.stop_on_late, defaults.ours.stop_on_late);
+}
+
+// Tracks, the lag window and what happens to a message later than it.
+TEST(MethodConfigFile, ReadsOursTimeSettings) {
+  const MethodConfig config =
+      parse_method_config("c.yaml", "ours:\n  tracks: per-view\n  lag_window_s: 0.25\n  late_measurements: stop\n");
+  EXPECT_TRUE(config.ours.per_view_tracks);
+  EXPECT_EQ(config.ours.lag_window, 0.25);
+  EXPECT_TRUE(config.ours.stop_on_late);
+  EXPECT_FALSE(parse_method_config("c.yaml", "ours:\n  tracks: per-object\n").ours.per_view_tracks);
+  EXPECT_EQ(error_of("ours:\n  tracks: per-camera\n"), "c.yaml:2: ours.tracks must be per-object or per-view");
+  EXPECT_EQ(error_of("ours:\n  late_measurements: [stop]\n"),
+            "c.yaml:2: ours.late_measurements must be leave-out or stop");
+  EXPECT_EQ(error_of("ours:\n  lag_window_s: -1\n"), "c.yaml:2: ours.lag_window_s must be a finite number >= 0");
 }
 
 }  // namespace
