@@ -9,8 +9,8 @@
 // cyclist and a pedestrian), stamped with its measurement time. Ego's messages reach the fuser after
 // 5–20 ms; peer's travel over V2X and arrive 40–180 ms late, so they often come after ego's next
 // frame. One in ten of peer's messages is lost. Peer's GPS pose is off by (0.4, −0.3) m, which its R
-// does not say: the filter learns that offset from how peer's measurements sit against the fused
-// track (no two messages are ever at the same time), and corrects for it.
+// does not say: the filter learns the offset between the vehicles from how each one's measurements
+// sit against the fused track (no two messages are ever at the same time), and corrects for it.
 
 #include <algorithm>
 #include <cmath>
@@ -49,8 +49,7 @@ int run(int argc, char** argv) {
     auto model = std::make_unique<stgf::MotionModel>(stgf::MotionModel::load(argv[1]));
     predictor = std::move(model);
   } else {
-    // History positions a frame apart (0.09 s): the peer's measurements between two of ego's are
-    // compared with them along the track's motion, which is how the peer's offset is learnt.
+    // History positions a frame apart (0.09 s), as a learned model's come from its training rate.
     predictor = std::make_unique<stgf::ConstantVelocityPredictor>(/*q=*/2.0, /*speed=*/3.0, /*horizon=*/1.0,
                                                                   /*history_spacing=*/0.09);
   }

@@ -10,6 +10,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <exception>
 #include <memory>
 #include <random>
 
@@ -17,7 +18,9 @@
 #include "stgf/learn/registration_metadata.hpp"
 #include "stgf/methods/spatiotemporal_graph_filter.hpp"
 
-int main(int argc, char** argv) {
+namespace {
+
+int run(int argc, char** argv) {
   using stgf::Gaussian3;
   using stgf::Matrix3d;
   using stgf::Vector3d;
@@ -80,4 +83,15 @@ int main(int argc, char** argv) {
     }
   }
   return 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  try {
+    return run(argc, argv);
+  } catch (const std::exception& error) {
+    std::fprintf(stderr, "example_streaming_filter: %s\n", error.what());
+    return 2;
+  }
 }
