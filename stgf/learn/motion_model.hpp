@@ -26,8 +26,14 @@
 //             correction as an acceleration times that time span makes Φ independent of the
 //             sampling rate (a model trained at 2.5 Hz predicts at 5 Hz or 1.25 Hz, tested), and an
 //             untrained Φ (small head) is close to the constant-velocity model.
+//             Nothing before the output depends on Δt, so one pass gives the forecast for every Δt:
+//               f(Δt) = (v_last + â Δt_last / 2) Δt + â Δt² / 2      (forecast(), motion_predictor.hpp)
+//             which the filter uses at each measurement's own time on any clock.
 // Inputs are scaled by the training data's typical speed s_v, step period s_t and a length s_p,
 // stored in the model file.
+//
+// History spacing: the filter gives Φ history positions at least 0.9 training periods apart
+// (kHistorySpacingFactor), however many unsynchronised views measure in between.
 //
 // Prediction horizon: Φ is trusted to predict across at most kHorizonFactor times the longest
 // interval it trained on (the 99th percentile of the training histories' intervals, which with
