@@ -111,65 +111,61 @@ void ViewRegistration::learn(std::span<const Measurement* const> step) {
   if (prior_.is_zero()) return;  // nothing to estimate: every offset is exactly zero
   // Objects in order of first appearance (a fixed order keeps the result bit-reproducible).
   std::vector<std::string_view> objects;
-  std::map<std::string_view, std::vector<RegistrationObservation>> of_object;
+  std::map<std::string_view, std::vector<const Measurement*>> of_object;
   for (const Measurement* measurement : step) {
     add_view(measurement->view);
-    auto& observations = of_object[measurement->object];
-    if (observations.empty()) objects.push_back(measurement->object);
-    const Matrix3d& covariance = measurement->position.covariance();
-    observations.push_back({measurement->view, measurement->position.mean(), covariance, covariance});
+    auto& rows = of_object[measurement->object];
+    if (rows.empty()) objects.push_back(measurement->object);
+    rows.push_back(measurement);
   }
-  for (const std::string_view object : objects) learn_object(of_object.at(object));
-}
-
-void ViewRegistration::learn_object(std::span<const RegistrationObservation> rows) {
-  if (prior_.is_zero()) return;
-  for (const RegistrationObservation& row : rows) add_view(row.view);
-  const auto k = static_cast<Eigen::Index>(rows.size());
-  if (k < 2) return;  // one view alone says nothing about offsets
-  // d_j = z_j − z_0 = H_j β_j − H_0 β_0 + e_j − e_0, j = 1..k−1; only the involved views' columns.
-  const Eigen::Index m = 3 * (k - 1);
-  std::vector<Eigen::Index> column(static_cast<std::size_t>(k));
-  std::vector<Matrix36> jacobian(static_cast<std::size_t>(k));
-  for (Eigen::Index j = 0; j < k; ++j) {
-    column[j] = kOffsetSize * index_of(rows[j].view);
-    jacobian[j] = offset_jacobian(rows[j].measurement_covariance);
-  }
-  Eigen::MatrixXd observation = Eigen::MatrixXd::Zero(m, kOffsetSize * k);  // H_obs on the involved columns
-  Eigen::VectorXd innovation(m);
-  Eigen::MatrixXd noise(m, m);
-  const Matrix3d& first_noise = rows[0].noise;
-  for (Eigen::Index j = 1; j < k; ++j) {
-    const Eigen::Index r = 3 * (j - 1);
-    observation.block<3, kOffsetSize>(r, 0) = -jacobian[0];
-    observation.block<3, kOffsetSize>(r, kOffsetSize * j) = jacobian[j];
-    innovation.segment<3>(r) = rows[j].position - rows[0].position -
-                               jacobian[j] * offsets_.segment<kOffsetSize>(column[j]) +
-                               jacobian[0] * offsets_.segment<kOffsetSize>(column[0]);
-    for (Eigen::Index l = 1; l < k; ++l) {
-      noise.block<3, 3>(r, 3 * (l - 1)) = first_noise;
-      if (l == j) noise.block<3, 3>(r, 3 * (l - 1)) += rows[j].noise;
+  for (const std::string_view object : objects) {
+    const std::vector<const Measurement*>& rows = of_object.at(object);
+    const auto k = static_cast<Eigen::Index>(rows.size());
+    if (k < 2) continue;  // one view alone says nothing about offsets
+    // d_j = z_j − z_0 = H_j β_j − H_0 β_0 + e_j − e_0, j = 1..k−1; only the involved views' columns.
+    const Eigen::Index m = 3 * (k - 1);
+    std::vector<Eigen::Index> column(static_cast<std::size_t>(k));
+    std::vector<Matrix36> jacobian(static_cast<std::size_t>(k));
+    for (Eigen::Index j = 0; j < k; ++j) {
+      column[j] = kOffsetSize * index_of(rows[j]->view);
+      jacobian[j] = offset_jacobian(rows[j]->position.covariance());
     }
+    Eigen::MatrixXd observation = Eigen::MatrixXd::Zero(m, kOffsetSize * k);  // H_obs on the involved columns
+    Eigen::VectorXd innovation(m);
+    Eigen::MatrixXd noise(m, m);
+    const Matrix3d& first_noise = rows[0]->position.covariance();
+    for (Eigen::Index j = 1; j < k; ++j) {
+      const Eigen::Index r = 3 * (j - 1);
+      observation.block<3, kOffsetSize>(r, 0) = -jacobian[0];
+      observation.block<3, kOffsetSize>(r, kOffsetSize * j) = jacobian[j];
+      innovation.segment<3>(r) = rows[j]->position.mean() - rows[0]->position.mean() -
+                                 jacobian[j] * offsets_.segment<kOffsetSize>(column[j]) +
+                                 jacobian[0] * offsets_.segment<kOffsetSize>(column[0]);
+      for (Eigen::Index l = 1; l < k; ++l) {
+        noise.block<3, 3>(r, 3 * (l - 1)) = first_noise;
+        if (l == j) noise.block<3, 3>(r, 3 * (l - 1)) += rows[j]->position.covariance();
+      }
+    }
+    // Σ H_obsᵀ (all views' rows) and H_obs Σ H_obsᵀ + N.
+    Eigen::MatrixXd cross(covariance_.rows(), m);  // Σ H_obsᵀ
+    cross.setZero();
+    for (Eigen::Index j = 0; j < k; ++j) {
+      cross.noalias() += covariance_.middleCols<kOffsetSize>(column[j]) *
+                         observation.middleCols<kOffsetSize>(kOffsetSize * j).transpose();
+    }
+    Eigen::MatrixXd innovation_covariance = noise;
+    for (Eigen::Index j = 0; j < k; ++j) {
+      innovation_covariance.noalias() += observation.middleCols<kOffsetSize>(kOffsetSize * j) *
+                                         cross.middleRows<kOffsetSize>(column[j]);
+    }
+    innovation_covariance = 0.5 * (innovation_covariance + innovation_covariance.transpose());
+    const Eigen::LLT<Eigen::MatrixXd> factor(innovation_covariance);
+    if (factor.info() != Eigen::Success) continue;  // cannot happen with R positive definite
+    const Eigen::MatrixXd gain_transposed = factor.solve(cross.transpose());  // Kᵀ = S⁻¹ (Σ Hᵀ)ᵀ
+    offsets_.noalias() += gain_transposed.transpose() * innovation;
+    covariance_.noalias() -= cross * gain_transposed;  // Σ − K S Kᵀ = Σ − (ΣHᵀ) S⁻¹ (ΣHᵀ)ᵀ
+    covariance_ = 0.5 * (covariance_ + covariance_.transpose());
   }
-  // Σ H_obsᵀ (all views' rows) and H_obs Σ H_obsᵀ + N.
-  Eigen::MatrixXd cross(covariance_.rows(), m);  // Σ H_obsᵀ
-  cross.setZero();
-  for (Eigen::Index j = 0; j < k; ++j) {
-    cross.noalias() += covariance_.middleCols<kOffsetSize>(column[j]) *
-                       observation.middleCols<kOffsetSize>(kOffsetSize * j).transpose();
-  }
-  Eigen::MatrixXd innovation_covariance = noise;
-  for (Eigen::Index j = 0; j < k; ++j) {
-    innovation_covariance.noalias() += observation.middleCols<kOffsetSize>(kOffsetSize * j) *
-                                       cross.middleRows<kOffsetSize>(column[j]);
-  }
-  innovation_covariance = 0.5 * (innovation_covariance + innovation_covariance.transpose());
-  const Eigen::LLT<Eigen::MatrixXd> factor(innovation_covariance);
-  if (factor.info() != Eigen::Success) return;  // cannot happen with R positive definite
-  const Eigen::MatrixXd gain_transposed = factor.solve(cross.transpose());  // Kᵀ = S⁻¹ (Σ Hᵀ)ᵀ
-  offsets_.noalias() += gain_transposed.transpose() * innovation;
-  covariance_.noalias() -= cross * gain_transposed;  // Σ − K S Kᵀ = Σ − (ΣHᵀ) S⁻¹ (ΣHᵀ)ᵀ
-  covariance_ = 0.5 * (covariance_ + covariance_.transpose());
 }
 
 }  // namespace stgf

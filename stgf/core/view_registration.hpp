@@ -31,12 +31,9 @@
 // information-weighted mean of the measurements, so the filter reduces to the plain update.
 // Learn from a step only after fusing it, so no measurement is used twice.
 //
-// Asynchronous views. Views on their own clocks rarely measure an object at the same instant. The
-// spatiotemporal graph filter then groups one object's measurements over about one history interval
-// and moves each to the group's first time t₀ along the object's motion forecast f (motion_predictor.hpp):
-//     z̃_u = z_u − f(t_u − t₀),   noise R_u + Q(t_u − t₀)  (the forecast's own error over that time),
-// while H_u keeps the L of the measured R_u (the offset is in the measurement, not in the motion).
-// learn_object takes such aligned observations; with every view at t₀ it is the update above.
+// Views on their own clocks rarely measure an object at the same instant, so these differences seldom
+// form: the spatiotemporal graph filter's one-track-per-object mode estimates offsets jointly with the
+// positions instead (joint_registration.hpp); this class serves its per-view tracks.
 //
 // Cost: state 6n for n views; a learning update is O((6n)² k) per object, a fusion O((3k)³).
 
@@ -50,16 +47,6 @@
 #include "stgf/core/records.hpp"
 
 namespace stgf {
-
-// One view's measurement of an object as learn_object uses it: its position (possibly moved to
-// another time along the object's motion), the covariance of that position's error, and the R the
-// view stated (whose Cholesky factor carries the noise-unit offset δ).
-struct RegistrationObservation {
-  std::string_view view;
-  Vector3d position;
-  Matrix3d noise;                   // R, plus what moving the position in time adds
-  Matrix3d measurement_covariance;  // R
-};
 
 struct RegistrationPrior {
   Vector3d translation_sigma = Vector3d::Zero();  // σ of t along the world axes (m)
@@ -86,9 +73,6 @@ class ViewRegistration {
 
   // Learns from every measurement of a step (all objects); adds views seen for the first time.
   void learn(std::span<const Measurement* const> step);
-  // Learns from the observations of ONE object (each view at most once; fewer than two teach nothing,
-  // but their views are added).
-  void learn_object(std::span<const RegistrationObservation> observations);
 
   // The estimated offset of `view` at position-independent part t and noise-unit part δ, and their
   // covariance (prior for an unknown view).
