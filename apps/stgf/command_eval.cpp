@@ -3,6 +3,7 @@
 #include <cstdio>
 
 #include "commands.hpp"
+#include "input_guard.hpp"
 #include "stgf/io/evaluation.hpp"
 #include "stgf/io/evaluation_report.hpp"
 #include "stgf/io/output_file.hpp"
@@ -19,6 +20,10 @@ struct EvalOptions {
 };
 
 void eval(const EvalOptions& options) {
+  std::vector<std::string> inputs = options.estimates;
+  inputs.push_back(options.truth);
+  inputs.push_back(options.measurements);
+  refuse_output_over_input("--json", options.json, inputs);
   const TruthFile truth = read_truth(options.truth);
   std::vector<EstimateFile> estimates;
   for (const std::string& path : options.estimates) estimates.push_back(read_estimates(path));

@@ -7,6 +7,7 @@
 #include <spdlog/spdlog.h>
 
 #include "commands.hpp"
+#include "input_guard.hpp"
 #include "method_runner.hpp"
 #include "stgf/core/scene_filter.hpp"
 #include "stgf/core/steps.hpp"
@@ -27,6 +28,7 @@ struct RunOptions {
 };
 
 void run(const RunOptions& options) {
+  refuse_output_over_input("--out", options.out, {options.measurements, options.config, options.model});
   const auto start = std::chrono::steady_clock::now();
   const MethodConfig config = options.config.empty() ? MethodConfig{} : read_method_config(options.config);
   std::optional<MotionModel> model;

@@ -163,6 +163,25 @@ TEST_F(Cli, FailedRunKeepsThePreviousOutput) {
   expect_run_error(kHeader + "s,0,v1,o1,0,nan,0,1,0,0,1,0,1\n", "m.csv:2:", "previous\n");
 }
 
+// An output that is an input (or a link to one) is refused before anything is read or written.
+TEST_F(Cli, OutputOverAnInputIsRefused) {
+  write("m.csv", kHeader + kGoodRows);
+  Result result = stgf("run --method wls --measurements m.csv --out m.csv");
+  EXPECT_EQ(result.status, 2);
+  EXPECT_THAT(result.err, HasSubstr("--out m.csv is the input file m.csv"));
+  EXPECT_EQ(slurp(directory_ / "m.csv"), kHeader + kGoodRows);
+  fs::create_symlink(directory_ / "m.csv", directory_ / "link.csv");
+  EXPECT_EQ(stgf("run --method wls --measurements m.csv --out link.csv").status, 2);
+  EXPECT_EQ(slurp(directory_ / "m.csv"), kHeader + kGoodRows);
+  ASSERT_EQ(stgf("run --method wls --measurements m.csv --out e.csv").status, 0);
+  write("t.csv", "scene,t,object,x,y,z\ns,0,o1,0,0,0\ns,0.1,o1,0.1,0,0\n");
+  const std::string truth = slurp(directory_ / "t.csv");
+  result = stgf("eval --truth t.csv --estimates e.csv --json t.csv");
+  EXPECT_EQ(result.status, 2);
+  EXPECT_THAT(result.err, HasSubstr("--json t.csv is the input file t.csv"));
+  EXPECT_EQ(slurp(directory_ / "t.csv"), truth);
+}
+
 TEST_F(Cli, RunThenEval) {
   write("m.csv", "scene,t,view,object,x,y,z,cov_xx,cov_xy,cov_xz,cov_yy,cov_yz,cov_zz,sensor_x,sensor_y,sensor_z\n"
                  "s,0,v1,o1,0,0,0,1,0,0,1,0,1,10,0,0\n"

@@ -1,0 +1,16 @@
+#pragma once
+// Nothing the user gave is ever overwritten: an output path that is, or links to, one of the
+// command's input files is a usage error (std::invalid_argument, exit status 2), raised before
+// anything is read or written.
+
+#include <string>
+#include <vector>
+
+namespace stgf::cli {
+
+// `option` names the output (e.g. "--out"); `inputs` are the input files given (empty entries are
+// skipped). Throws std::invalid_argument when `output` exists and is the same file as an input.
+void refuse_output_over_input(const std::string& option, const std::string& output,
+                              const std::vector<std::string>& inputs);
+
+}  // namespace stgf::cli
