@@ -232,6 +232,42 @@ fs::path run_and_write(const std::string& method, const std::string& label, cons
   return file;
 }
 
+// The models of a benchmark, for run_every_method.
+struct BenchmarkModels {
+  const MotionModel& fused;
+  fs::path fused_path;
+  const MotionModel& raw;
+  fs::path raw_path;
+};
+
+// Runs the six methods of Table I, then `ours` with each of `variants` (label, settings), over
+// `measurements`, writing each one's estimates into `folder`; returns (label, file) in that order.
+std::vector<std::pair<std::string, fs::path>> run_every_method(
+    const BenchmarkModels& models, const std::vector<std::pair<std::string, MethodConfig>>& variants,
+    const MeasurementFile& measurements, const fs::path& folder, std::map<std::string, double>& timings) {
+  fs::create_directories(folder);
+  std::vector<std::pair<std::string, fs::path>> files;
+  const MethodConfig config;
+  for (const std::string& method : all_method_names()) {
+    const bool raw = method == "sttp";
+    const MotionModel* model = raw ? &models.raw : is_learned_method(method) ? &models.fused : nullptr;
+    const fs::path& model_path = raw ? models.raw_path : models.fused_path;
+    files.emplace_back(method, run_and_write(method, method, config, model, model_path.string(), measurements, folder,
+                                             timings));
+  }
+  for (const auto& [label, settings] : variants) {
+    files.emplace_back(label, run_and_write("ours", label, settings, &models.fused, models.fused_path.string(),
+                                            measurements, folder, timings));
+  }
+  return files;
+}
+
+std::vector<EstimateFile> read_all(const std::vector<std::pair<std::string, fs::path>>& files) {
+  std::vector<EstimateFile> estimates;
+  for (const auto& [label, file] : files) estimates.push_back(read_estimates(file.string()));
+  return estimates;
+}
+
 void draw_figures(const std::string& name, const Evaluation& evaluation, const TruthFile& truth,
                   const std::map<std::string, fs::path>& estimate_files,
                   const fs::path& figures, bool draw, std::vector<std::string>& drawn) {
@@ -281,32 +317,18 @@ BenchmarkResult reproduce_benchmark(const std::string& name, const ReproduceOpti
   const MeasurementFile measurements = read_measurements((folder / "test" / "measurements.csv").string());
   const MotionModel fused = load_model_for("ours", fused_model.string());
   const MotionModel raw = load_model_for("sttp", raw_model.string());
-  const fs::path estimates = out / "estimates" / name;
-  fs::create_directories(estimates);
-  std::map<std::string, fs::path> estimate_files;
-  const MethodConfig config;
-  for (const std::string& method : all_method_names()) {
-    const MotionModel* model = method == "sttp" ? &raw : is_learned_method(method) ? &fused : nullptr;
-    const fs::path& model_path = method == "sttp" ? raw_model : fused_model;
-    estimate_files[method] =
-        run_and_write(method, method, config, model, model_path.string(), measurements, estimates, result.timings);
-  }
+  const BenchmarkModels models{fused, fused_model, raw, raw_model};
   MethodConfig without_registration;
   without_registration.ours.registration = false;
-  estimate_files[kRegistrationOff] = run_and_write("ours", kRegistrationOff, without_registration, &fused,
-                                                   fused_model.string(), measurements, estimates, result.timings);
   MethodConfig per_view;
   per_view.ours.per_view_tracks = true;
-  estimate_files[kPerViewTracks] = run_and_write("ours", kPerViewTracks, per_view, &fused, fused_model.string(),
-                                                 measurements, estimates, result.timings);
+  const auto written = run_every_method(models, {{kRegistrationOff, without_registration}, {kPerViewTracks, per_view}},
+                                        measurements, out / "estimates" / name, result.timings);
+  const std::map<std::string, fs::path> estimate_files(written.begin(), written.end());
 
   progress.next(fmt::format("scoring from step {} on", kFromStep));
   const TruthFile truth = read_truth((folder / "test" / "truth.csv").string());
-  std::vector<EstimateFile> files;
-  for (const std::string& method : all_method_names()) files.push_back(read_estimates(estimate_files.at(method).string()));
-  files.push_back(read_estimates(estimate_files.at(kRegistrationOff).string()));
-  files.push_back(read_estimates(estimate_files.at(kPerViewTracks).string()));
-  result.evaluation = evaluate(truth, files, &measurements, kFromStep);
+  result.evaluation = evaluate(truth, read_all(written), &measurements, kFromStep);
   result.registration = fused.metadata().value("registration", nlohmann::json::object());
 
   progress.next(draw ? "figures" : "figures: gnuplot not found, writing data and scripts only");
@@ -322,23 +344,12 @@ BenchmarkResult reproduce_benchmark(const std::string& name, const ReproduceOpti
     std::map<std::string, double> timings;
     ensure_benchmark(name, variant_folder, options, quiet, timings, variant.clocks);
     const MeasurementFile rows = read_measurements((variant_folder / "test" / "measurements.csv").string());
-    const fs::path variant_estimates = out / "estimates" / variant_name;
-    fs::create_directories(variant_estimates);
-    std::vector<EstimateFile> variant_files;
-    for (const std::string& method : all_method_names()) {
-      const MotionModel* model = method == "sttp" ? &raw : is_learned_method(method) ? &fused : nullptr;
-      const fs::path& model_path = method == "sttp" ? raw_model : fused_model;
-      variant_files.push_back(read_estimates(
-          run_and_write(method, method, config, model, model_path.string(), rows, variant_estimates, timings)
-              .string()));
-    }
-    variant_files.push_back(read_estimates(run_and_write("ours", kRegistrationOff, without_registration, &fused,
-                                                         fused_model.string(), rows, variant_estimates, timings)
-                                               .string()));
+    const auto variant_files = run_every_method(models, {{kRegistrationOff, without_registration}}, rows,
+                                                out / "estimates" / variant_name, timings);
     for (const auto& [stage, seconds] : timings) result.timings[variant.suffix + ": " + stage] = seconds;
     const TruthFile variant_truth = read_truth((variant_folder / "test" / "truth.csv").string());
     result.clock_variants.push_back(
-        {variant.suffix, variant.clocks.latency_s, evaluate(variant_truth, variant_files, &rows, ScoringStart{0, from_time})});
+        {variant.suffix, variant.clocks.latency_s, evaluate(variant_truth, read_all(variant_files), &rows, ScoringStart{0, from_time})});
   }
   return result;
 }
