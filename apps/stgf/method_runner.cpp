@@ -70,9 +70,7 @@ std::vector<Gaussian3> run_named_method(const std::string& method, const MethodC
   report_restarts();
   if (prediction_only) {
     for (std::size_t row = 0; row < rows.size(); ++row) {
-      if (const auto& prediction = run.predictions[row]) {
-        run.estimates[row] = Gaussian3::from_covariance(prediction->mean, prediction->covariance);
-      }
+      if (const auto& prediction = run.predictions[row]) run.estimates[row] = prediction->prior;
     }
   }
   if (run.rewinds > 0) {

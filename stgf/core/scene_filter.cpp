@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
-#include <numeric>
 #include <sstream>
 
 #include "stgf/core/multi_view_update.hpp"
@@ -41,7 +40,7 @@ SceneFilter::TrackKey SceneFilter::key_of(const Measurement& measurement) const 
   return {options_.tracks == TrackMode::kPerView ? measurement.view : std::string(), measurement.object};
 }
 
-void SceneFilter::receive(std::span<const Measurement> measurements, std::span<const std::size_t> ids) {
+void SceneFilter::receive(std::span<const Measurement* const> measurements, std::span<const std::size_t> ids) {
   if (!request_.empty()) throw std::logic_error("SceneFilter::receive while a forecast request is open");
   if (measurements.size() != ids.size()) throw std::invalid_argument("SceneFilter::receive needs one id per measurement");
   // Too late: older than the window (or, without a window, not after the latest time).
@@ -50,7 +49,7 @@ void SceneFilter::receive(std::span<const Measurement> measurements, std::span<c
                                      : time <= latest_time_ + kSameStepTolerance;
   };
   for (std::size_t k = 0; k < measurements.size(); ++k) {
-    const Measurement& measurement = measurements[k];
+    const Measurement& measurement = *measurements[k];
     if (!std::isfinite(measurement.time)) {
       throw std::invalid_argument("measurement of object '" + measurement.object + "' by view '" + measurement.view +
                                   "' has a non-finite time");
@@ -65,16 +64,16 @@ void SceneFilter::receive(std::span<const Measurement> measurements, std::span<c
   // The rest by time into events (rows within kSameStepTolerance of an event's earliest time join it).
   std::vector<std::size_t> order;
   for (std::size_t k = 0; k < measurements.size(); ++k) {
-    if (!too_late(measurements[k].time)) order.push_back(k);
+    if (!too_late(measurements[k]->time)) order.push_back(k);
   }
   std::stable_sort(order.begin(), order.end(),
-                   [&](std::size_t a, std::size_t b) { return measurements[a].time < measurements[b].time; });
+                   [&](std::size_t a, std::size_t b) { return measurements[a]->time < measurements[b]->time; });
   std::vector<Event> events;
   for (std::size_t k : order) {
-    if (events.empty() || measurements[k].time - events.back().time > kSameStepTolerance) {
-      events.push_back(Event{measurements[k].time, {}, false});
+    if (events.empty() || measurements[k]->time - events.back().time > kSameStepTolerance) {
+      events.push_back(Event{measurements[k]->time, {}, false});
     }
-    events.back().rows.push_back(Row{ids[k], measurements[k], false});
+    events.back().rows.push_back(Row{ids[k], *measurements[k], false});
   }
   // A (view, object) twice at one time, within the call or with what the filter already holds.
   const auto same_time_event = [&](const std::deque<Event>& list, double time) -> const Event* {
@@ -100,7 +99,7 @@ void SceneFilter::receive(std::span<const Measurement> measurements, std::span<c
     }
   }
   for (std::size_t k = 0; k < measurements.size(); ++k) {
-    if (too_late(measurements[k].time)) leave_out(measurements[k], ids[k]);
+    if (too_late(measurements[k]->time)) leave_out(*measurements[k], ids[k]);
   }
   for (Event& event : events) insert(std::move(event));
 }
@@ -252,17 +251,16 @@ void SceneFilter::process_joint(Event& event) {
     while (end < event.rows.size() && event.rows[end].measurement.object == object) ++end;
     ObjectTrack& track = state_.tracks[key_of(event.rows[first].measurement)];
     std::size_t next = first;
-    std::optional<Prediction> reported_prediction;
+    std::optional<TrackPrediction> prediction;
     if (track.empty()) {
       state_.joint.remove_object(object);  // a track that started again
       state_.joint.add_object(event.rows[next++].measurement);
     } else {
       const ObjectTrack::Motion motion = track.motion_to(time, predictor_, scale);
-      const Gaussian3 before = state_.joint.position(object);
+      const Matrix3d state_covariance = state_.joint.position(object).covariance();
       state_.joint.predict(object, motion.displacement, motion.covariance);
-      const Gaussian3 predicted = state_.joint.position(object);
-      reported_prediction = Prediction{predicted.mean(), predicted.covariance(), before.covariance(), motion.interval,
-                                       track.history().size()};
+      prediction = TrackPrediction{state_.joint.position(object), state_covariance, motion.process_noise,
+                                   motion.interval, track.history().size()};
       if (!track.has_frame() && track.history().size() >= 2 && options_.adapt_process_noise) {
         const JointRegistration::Innovation innovation = state_.joint.innovation(event.rows[first].measurement);
         state_.process_noise_scale.add(innovation.value, innovation.covariance - motion.covariance,
@@ -273,13 +271,18 @@ void SceneFilter::process_joint(Event& event) {
     const Gaussian3 fused = state_.joint.position(object);
     if (!track.has_frame()) track.open_frame(time);
     track.update(time, fused);
-    for (std::size_t k = first; k < end; ++k) {
-      Row& row = event.rows[k];
-      if (row.reported) continue;
-      results_.push_back(Result{row.id, fused, reported_prediction});
-      row.reported = true;
-    }
+    report(event, first, end, fused, prediction);
     first = end;
+  }
+}
+
+void SceneFilter::report(Event& event, std::size_t first, std::size_t end, const Gaussian3& estimate,
+                         const std::optional<TrackPrediction>& prediction) {
+  for (std::size_t k = first; k < end; ++k) {
+    Row& row = event.rows[k];
+    if (row.reported) continue;
+    results_.push_back(Result{row.id, estimate, prediction});
+    row.reported = true;
   }
 }
 
@@ -329,19 +332,10 @@ void SceneFilter::process(Event& event) {
       }
       if (opens_frame) track.open_frame(time);
       track.update(time, fused);
-      std::optional<Prediction> reported_prediction;
-      if (prediction) {
-        reported_prediction = Prediction{prediction->prior.mean(), prediction->prior.covariance(),
-                                         prediction->state_covariance, prediction->interval,
-                                         prediction->history_positions};
-      }
-      const std::size_t row_first = options_.tracks == TrackMode::kPerObject ? first : first + t;
-      const std::size_t row_end = options_.tracks == TrackMode::kPerObject ? end : first + t + 1;
-      for (std::size_t k = row_first; k < row_end; ++k) {
-        Row& row = event.rows[k];
-        if (row.reported) continue;
-        results_.push_back(Result{row.id, fused, reported_prediction});
-        row.reported = true;
+      if (options_.tracks == TrackMode::kPerObject) {
+        report(event, first, end, fused, prediction);
+      } else {
+        report(event, first + t, first + t + 1, fused, prediction);
       }
     }
     if (innovation) innovations.push_back(*innovation);

@@ -105,7 +105,8 @@ class SceneFilter {
   // an id the caller chooses; ids come back with the estimates. Does not process them: call advance().
   // Throws std::invalid_argument for a non-finite time or a (view, object, time) given twice, and
   // LateMeasurementError for a measurement too late under LatePolicy::kStop (nothing is taken then).
-  void receive(std::span<const Measurement> measurements, std::span<const std::size_t> ids);
+  // The filter keeps copies of what it needs.
+  void receive(std::span<const Measurement* const> measurements, std::span<const std::size_t> ids);
 
   // Processes queued events until done (true) or a forecast is needed (false: forecast_request()
   // lists the graphs; provide_forecasts() answers them, then advance() again).
@@ -114,17 +115,11 @@ class SceneFilter {
   void provide_forecasts(const std::vector<std::vector<MotionForecast>>& forecasts);
 
   // A measurement's result, once processed.
-  struct Prediction {  // what the track predicted for it before the update
-    Vector3d mean;
-    Matrix3d covariance;        // P (the prediction's whole covariance)
-    Matrix3d state_covariance;  // P̂_s
-    double interval = 0.0;      // see TrackPrediction
-    std::size_t history_positions = 0;
-  };
   struct Result {
     std::size_t id;
     Gaussian3 estimate;
-    std::optional<Prediction> prediction;  // none: diffuse start, or left out as too late
+    // What the track predicted for it before the update; none: diffuse start, or left out as too late.
+    std::optional<TrackPrediction> prediction;
   };
   // The results of measurements processed since the last call, in processing order.
   std::vector<Result> take_results();
@@ -169,6 +164,9 @@ class SceneFilter {
   void start(Event& event);
   bool request_forecasts(const Event& event);
   void close_frames(double time);
+  // The rows [first, end) of `event` that have not reported yet report `estimate` (and `prediction`).
+  void report(Event& event, std::size_t first, std::size_t end, const Gaussian3& estimate,
+              const std::optional<TrackPrediction>& prediction);
   bool joint() const { return options_.tracks == TrackMode::kPerObject && state_.joint.active(); }
   void process_joint(Event& event);
   void process(Event& event);

@@ -27,7 +27,7 @@ std::vector<Residual> filter_residuals(const MotionModel& model, const Registrat
   for (std::size_t row = 0; row < measurements.size(); ++row) {
     const auto& prediction = run.predictions[row];
     if (!prediction || prediction->history_positions < 2 || !(prediction->interval > 0.0)) continue;
-    residuals.push_back({truth[row] - prediction->mean, prediction->state_covariance, prediction->interval});
+    residuals.push_back({truth[row] - prediction->prior.mean(), prediction->state_covariance, prediction->interval});
   }
   return residuals;
 }

@@ -62,7 +62,7 @@ void run_block(const MotionPredictor& predictor, const FilterOptions& options, s
   for (const Scene& scene : scenes) {
     block.push_back({std::make_unique<SceneFilter>(predictor, options), deliveries_of(scene, measurements, by_arrival), 0});
   }
-  std::vector<Measurement> delivered;
+  std::vector<const Measurement*> delivered;
   for (;;) {
     // Every scene runs until it waits for forecasts or has nothing left.
     std::vector<SceneRun*> waiting;
@@ -80,7 +80,7 @@ void run_block(const MotionPredictor& predictor, const FilterOptions& options, s
         if (scene.next == scene.deliveries.size()) break;
         const std::vector<std::size_t>& rows = scene.deliveries[scene.next++];
         delivered.clear();
-        for (std::size_t row : rows) delivered.push_back(measurements[row]);
+        for (std::size_t row : rows) delivered.push_back(&measurements[row]);
         scene.filter->receive(delivered, rows);
       }
     }

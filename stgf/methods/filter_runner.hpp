@@ -25,7 +25,7 @@ namespace stgf {
 struct FilterRun {
   std::vector<Gaussian3> estimates;  // one per measurement row, in order
   // What was predicted for each row before its update (when asked for).
-  std::vector<std::optional<SceneFilter::Prediction>> predictions;
+  std::vector<std::optional<TrackPrediction>> predictions;
   std::size_t restarted_tracks = 0;    // summed over the scenes
   std::size_t late_measurements = 0;   // too late for the lag window
   std::size_t rewinds = 0;             // late rows fused in their place in time

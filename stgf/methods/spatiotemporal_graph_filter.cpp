@@ -8,7 +8,10 @@ namespace stgf {
 std::vector<Gaussian3> SpatiotemporalGraphFilter::fuse(std::span<const Measurement> measurements) {
   std::vector<std::size_t> ids(measurements.size());
   std::iota(ids.begin(), ids.end(), std::size_t{0});
-  filter_.receive(measurements, ids);
+  std::vector<const Measurement*> pointers;
+  pointers.reserve(measurements.size());
+  for (const Measurement& measurement : measurements) pointers.push_back(&measurement);
+  filter_.receive(pointers, ids);
   while (!filter_.advance()) filter_.provide_forecasts(predictor_.forecast(filter_.forecast_request()));
   std::vector<std::optional<Gaussian3>> estimates(measurements.size());
   last_predictions_.assign(measurements.size(), std::nullopt);

@@ -46,7 +46,7 @@ class SpatiotemporalGraphFilter final : public Localizer {
 
   // What the last fuse() or step() predicted for each of its measurements before the update: none for
   // a diffuse start (a new track) or a measurement left out as too late.
-  const std::vector<std::optional<SceneFilter::Prediction>>& last_predictions() const { return last_predictions_; }
+  const std::vector<std::optional<TrackPrediction>>& last_predictions() const { return last_predictions_; }
   std::size_t restarted_tracks() const { return filter_.restarted_tracks(); }
   std::size_t late_measurements() const { return filter_.late_measurements(); }
   std::size_t rewinds() const { return filter_.rewinds(); }  // went back in time for a late measurement
@@ -57,7 +57,7 @@ class SpatiotemporalGraphFilter final : public Localizer {
  private:
   const MotionPredictor& predictor_;
   SceneFilter filter_;
-  std::vector<std::optional<SceneFilter::Prediction>> last_predictions_;
+  std::vector<std::optional<TrackPrediction>> last_predictions_;
 };
 
 }  // namespace stgf
