@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Throughput of the fusion core, counted per object-view (one measurement of one object by one view).
 //
 //   build/bench/bench_fusion --benchmark_filter=. --benchmark_min_time=1

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Inference time of the learned motion model Φ for one step: every view's graph of the step goes
 // through one batched forward pass (history 8, hidden 32, the default shape).
 //

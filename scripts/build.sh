@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: Apache-2.0
 # Configures (once) and builds stgf into build/. The CLI ends up at build/stgf.
 set -euo pipefail
 cd "$(dirname "$0")/.."

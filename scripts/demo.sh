@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: Apache-2.0
 # The main job on built-in data: installs what is missing, builds, and runs `stgf reproduce --quick`
 # on the mpl benchmark made from the PETS 2009 data shipped in data/ (seed 1: 4 pedestrians × 7
 # calibrated cameras per instance, pixel noise back-projected to the ground, a per-camera

@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: Apache-2.0
 # Regenerates docs/generalization.md: the models `scripts/results.sh` trained (build/reproduce/models)
 # on data they were not trained on — ETH/UCY pedestrians (2.5 Hz, 3D camera noise, other scenes) and
 # the mpl test split at a third of its frame rate — against the model-free baselines, with `ours`'

@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: Apache-2.0
 # Trains Φ on the mpl and cad benchmarks (seed 1) and regenerates docs/learning.md: time per epoch,
 # validation error against constant velocity, and the comparison of the two ways of training on
 # fused histories (observed wls histories vs truth + matched noise).

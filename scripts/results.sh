@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: Apache-2.0
 # Regenerates docs/results.md and docs/figures/: `stgf reproduce` on the real-data benchmarks at full
 # size (seed 1) — builds them, trains the models, runs all six methods on the test splits, scores
 # them and draws the figures — then adds the notes below. About 12 minutes on 2 cores.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // stgf dataset synthetic|mpl|cad|ethucy --out DIR [--seed S] [options of each builder]
 //              [--asynchronous [--jitter S]] [--latency S]
 

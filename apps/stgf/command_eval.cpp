@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // stgf eval --truth T --estimates E [E2 ...] [--measurements M] [--from-step K | --from-time S] [--json OUT]
 
 #include <cstdio>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // stgf plot --truth T --estimates E [E2 ...] --out DIR [--measurements M] [--scene S] [--view V]
 //           [--from-step K | --from-time S] [--name NAME]
 //

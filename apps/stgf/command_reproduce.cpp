@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // stgf reproduce [--benchmarks mpl,cad] [--out DIR] [--quick] [--seed S] [--epochs N] [--threads N]
 //
 // The paper's experiments end to end (DESIGN §2, §4, §5), for each benchmark:

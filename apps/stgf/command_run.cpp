@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // stgf run --method NAME --measurements M.csv --out E.csv [--config C.yaml]
 
 #include <chrono>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // stgf train --benchmark DIR --out MODEL.pt [--input raw|fused] [--epochs N] [--lr X] [--batch N]
 //            [--seed S] [--threads N] [--resume MODEL.pt] [--history N] [--history-noise observed|matched]
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // The subcommands of the stgf CLI. Each adds itself to the app; its callback does the work and
 // throws stgf::InputError for bad input (exit status 2).

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // The figures of stgf reproduce and stgf plot, drawn by gnuplot. Each figure STEM gets its data (STEM*.dat), the
 // gnuplot script that draws it (STEM.gp, re-runnable by hand: `cd DIR && gnuplot STEM.gp`), and

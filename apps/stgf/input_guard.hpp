@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // Nothing the user gave is ever overwritten: an output path that is, or links to, one of the
 // command's input files is a usage error (std::invalid_argument, exit status 2), raised before

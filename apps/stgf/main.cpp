@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // stgf — multi-view collaborative object localization.
 //
 // Exit status: 0 on success, 2 on bad input or usage (the message names the file and line), 1 on

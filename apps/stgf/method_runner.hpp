@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // Any method of DESIGN §2 by name, over measurement rows (stgf run, stgf reproduce).
 

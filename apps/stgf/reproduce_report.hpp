@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // What stgf reproduce writes: Table I (DE, REL-DE and NEES per method and benchmark), the comparison
 // with the paper's ratios, the effect of the registration-error handling, DE by number of views, the

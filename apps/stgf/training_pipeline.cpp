@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // stgf train's pipeline, shared with stgf reproduce.
 
 #include "training_pipeline.hpp"

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // Training a model for the learned methods (stgf train, stgf reproduce):
 //   1. read the benchmark's train/ and val/ splits (measurements and truth);

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Two connected vehicles on their own clocks share what they see over a lossy, laggy link; the
 // fuser takes each message when it arrives, late and out of order, and keeps one track per object.
 //

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Streaming use of the spatiotemporal graph filter, without files: a robot's loop hands the filter
 // the measurements of each step as they arrive and gets one fused estimate per measurement back.
 //

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // Cholesky factorisation of a symmetric 3×3 matrix, A = L Lᵀ, written out in full. It is the one
 // matrix solve in the fusion hot path, so it is unrolled rather than left to a general routine:

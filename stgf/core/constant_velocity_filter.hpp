@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // A constant-velocity Kalman filter on an object's 3D position, updated with any number of views
 // per step. It is the `mmt` baseline (DESIGN §2), after AB3DMOT's filter.

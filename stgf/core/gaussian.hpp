@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // A 3D Gaussian N(mean, covariance) whose covariance is known to be symmetric positive definite.
 //

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // The positions of a scene's objects and the registration offsets of its views, estimated jointly:
 // one Gaussian over s = (p_1, …, p_m, β_1, …, β_n), so that views on their own clocks — which never

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // Localization metrics (DESIGN §4), over rows (scene, t, view, object) that pair an estimate
 // N(x̂, P̂) with the truth y:

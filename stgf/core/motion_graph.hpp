@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // What a motion model (the learned Φ, or constant velocity) sees (DESIGN §1.1): at one step, the graph of
 // objects one view holds, each with its recent positions, to be predicted at a target time.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // What the spatiotemporal graph filter needs from a motion model (DESIGN §1.1–1.2), without LibTorch:
 // for each object of a batch of graphs, a forecast of its motion after its last history position,

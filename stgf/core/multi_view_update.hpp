@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // The multi-view update of the spatiotemporal graph filter (paper Eqs. 10–13, DESIGN §1.3).
 //

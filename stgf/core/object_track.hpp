@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // One track of the spatiotemporal graph filter: what it knows of one object (DESIGN §1), in
 // continuous time, for measurements that come on any clock.

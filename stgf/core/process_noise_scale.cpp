@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #include "stgf/core/process_noise_scale.hpp"
 
 #include <cmath>

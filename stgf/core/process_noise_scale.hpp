@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // An online scale for a process noise Q that may not fit the data at hand. Q is calibrated where the
 // motion model was trained; on other data (another frame rate, other motion, other sensors) the

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // The records stgf reads and writes (DESIGN §3). A measurement describes itself — scene, time,
 // view, object, position with its covariance, and where the sensor was — so any number of views

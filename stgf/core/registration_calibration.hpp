@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // Calibrates the registration prior (view_registration.hpp) from measurements whose truth is known —
 // a validation split, as Q is calibrated (DESIGN §1.2) — by maximum marginal likelihood.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // The spatiotemporal graph filter of one scene (DESIGN §1, paper Algorithm 1) in continuous time,
 // for views on their own clocks whose measurements arrive late and out of order. LibTorch-free: the

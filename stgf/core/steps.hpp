@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // Groups measurements into scenes and steps: rows with the same scene and a time within
 // kSameStepTolerance of the step's first (earliest) time form one step. Scenes keep the order in

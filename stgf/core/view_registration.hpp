@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // Registration error: the part of a view's error that its R does not state and that does not
 // average out over time — a camera's calibration error, a vehicle's GPS pose error. It shifts all of

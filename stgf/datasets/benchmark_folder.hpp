@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // A benchmark folder (DESIGN §3), written by every benchmark builder (synthetic and real data):
 //

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // The cad benchmark (DESIGN §5): connected vehicles that share what their sensors see, built from
 // real KITTI tracking sequences (datasets/kitti_tracking.hpp). The true trajectories are the

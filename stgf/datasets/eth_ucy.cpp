@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #include "stgf/datasets/eth_ucy.hpp"
 
 #include <fmt/format.h>

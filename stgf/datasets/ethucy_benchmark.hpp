@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // The ethucy benchmark (DESIGN §5): real ETH/UCY pedestrian trajectories (datasets/eth_ucy.hpp) seen
 // by simulated cameras around each scene, split leave-one-scene-out. Its purpose is plenty of real

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // Same seed, same bytes on every machine: keep a·b + c as two rounded operations on every compiler,
 // so that files are byte-identical on machines with and without FMA (GCC and Clang contract into

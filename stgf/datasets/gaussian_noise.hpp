@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // Simulated sensor errors drawn from exactly the covariance that is written with them, so that
 // a benchmark's R is the true error covariance (apart from any bias a builder adds on purpose and

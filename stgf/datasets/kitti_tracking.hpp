@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // KITTI tracking (Geiger, Lenz, Urtasun, CVPR 2012): readers for the label, oxts and calib files
 // of one training sequence, and the conversion of its labelled 3D boxes and its GPS/IMU poses into

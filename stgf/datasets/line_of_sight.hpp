@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // Sensor noise along and across the line of sight, and misses that grow with range: the model that
 // the synthetic, cad and ethucy benchmarks share (each chooses its own standard deviations; see

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // The mpl benchmark (DESIGN §5): real pedestrian trajectories of PETS 2009 S2.L1 seen by the seven
 // real, calibrated cameras of that sequence (views 1 and 3–8), each measuring a person's foot point

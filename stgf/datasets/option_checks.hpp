@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // Checks of a benchmark builder's options, shared by every builder so that they reject bad options
 // with the same words. Every failure throws std::invalid_argument with a message that starts with

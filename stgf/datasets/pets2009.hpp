@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // PETS 2009 S2.L1 ground truth as world trajectories (data/SOURCES.md §2; the mpl benchmark's source).
 //

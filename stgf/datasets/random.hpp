@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // A random source that gives the same numbers on every platform, for benchmarks that must be
 // reproducible from a seed (DESIGN §5).

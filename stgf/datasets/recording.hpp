@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // Ground-truth trajectories of one real recording (a PETS sequence, a KITTI drive, an ETH/UCY
 // scene), and the windows of it that benchmark instances are cut from (DESIGN §5).

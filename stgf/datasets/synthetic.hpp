@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // The synthetic benchmark (DESIGN §5): objects that walk, turn, stop and avoid each other on the
 // ground, seen by fixed views placed around the scene, each with range-dependent anisotropic noise

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // Small pieces shared by the readers of source data in this layer: the KITTI and ETH/UCY text files
 // (kitti_tracking.cpp, eth_ucy.cpp), the PETS 2009 XML files (xml_file.hpp) and the source files

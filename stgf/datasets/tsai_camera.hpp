@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // A calibrated camera in R. Y. Tsai's model (IEEE J. Robotics and Automation 3(4), 1987), as the
 // PETS 2009 calibration files give it (View_001.xml … View_008.xml; data/SOURCES.md §2), and the

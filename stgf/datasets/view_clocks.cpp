@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #include "stgf/datasets/view_clocks.hpp"
 
 #include <fmt/format.h>

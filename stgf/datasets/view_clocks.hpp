@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // Per-view clocks and message latency for any benchmark (DESIGN §5), applied to a split that a
 // builder has made synchronous — every view measuring at the frame times t_k = t_0 + k·T — so that

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // Options that the synthetic and ethucy benchmarks share by name, meaning and rule (SyntheticOptions
 // and EthUcyOptions document them): how their views are placed (angle jitter, sensor height, noise

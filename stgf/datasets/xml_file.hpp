@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // An XML source file of this layer (Tsai calibrations, PETS 2009 annotations): read whole, parsed
 // with pugixml, and every problem reported as InputError (stgf/io/input_error.hpp) naming the file

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // A small streaming CSV reader for stgf's files (DESIGN §3): a header row names the columns, which
 // may come in any order; unknown columns are ignored. Fields are separated by commas and may be

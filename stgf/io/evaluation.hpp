@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // Scores estimate files against the truth (DESIGN §4): DE, REL-DE and NEES per method, overall
 // and by the number of views that saw the object.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #include "stgf/io/evaluation_report.hpp"
 
 #include <cmath>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // An Evaluation as a Markdown table (one row per method, then DE by number of views) and as JSON.
 

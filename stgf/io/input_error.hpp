@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // Bad input: the message names the file as the user gave it and the line (the header is line 1),
 // "FILE:LINE: what is wrong". The CLI turns it into exit status 2 with no output written.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #include "stgf/io/method_config_file.hpp"
 
 #include <algorithm>

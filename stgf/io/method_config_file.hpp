@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // Reads method settings from a YAML file (see config/methods.yaml for every key, its meaning, unit
 // and default). Keys left out keep their defaults; an unknown key, a non-number or a value out of

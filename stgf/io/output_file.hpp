@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // An output file that appears whole or not at all: text goes to a temporary file beside the
 // target, and commit() renames it into place. If commit() is never reached (an error, an

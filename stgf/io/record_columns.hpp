@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // Column handling shared by the measurement, truth and estimate files (internal to the io layer).
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // The truth file (DESIGN §3): scene,t,object,x,y,z — the true position of each object at each time.
 // Reading rejects bad rows like the measurements reader, and a second row for the same

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // Calibrating Q in the regime the filter runs in (DESIGN §1.2).
 //

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #include "stgf/learn/learned_methods.hpp"
 
 #include <algorithm>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // `sttp` (DESIGN §2): Φ on one view's own measurement history (single-view learned prediction, like
 // STGAT), prediction only. Each measured row (scene, t, view, object) gets the prediction of its

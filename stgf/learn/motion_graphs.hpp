@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // The motion graphs of a measurement list (DESIGN §1.1, §2): what Φ trains and runs on, built from a
 // benchmark split without LibTorch.

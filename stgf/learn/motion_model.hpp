@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // The learned motion model Φ of the spatiotemporal graph filter (DESIGN §1.1–1.2), behind an
 // interface that keeps LibTorch out of every public header.

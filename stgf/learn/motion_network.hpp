@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // The network of Φ in LibTorch (see motion_model.hpp for the math). Private to the learn layer:
 // only motion_model.cpp and motion_training.cpp include it, so LibTorch stays out of public headers.

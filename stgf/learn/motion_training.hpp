@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // Training Φ (DESIGN §1.1–1.2): Adam on the mean Euclidean error of the one-step prediction,
 // validation after every epoch, the best model kept (with the optimizer state, configuration,

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // The registration prior (core/view_registration.hpp) as stored in a model file's metadata, next to
 // the Q it was calibrated with (both from the validation split of the training benchmark):

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #include "stgf/methods/average_of_measurements.hpp"
 
 #include "stgf/methods/object_groups.hpp"

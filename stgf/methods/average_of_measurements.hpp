@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // `aom`: the plain average of all views' measurements of an object at a step (paper's AOM).
 //

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #include "stgf/methods/filter_runner.hpp"
 
 #include <algorithm>

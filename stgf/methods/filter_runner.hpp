@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // `ours` over a whole measurement list, fast: one SceneFilter per scene (core/scene_filter.hpp), and
 // the scenes of a block of a few hundred advanced together: each runs until it needs forecasts, and

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // The interface every localization method implements (DESIGN §2): model-based (aom, wls, mmt) and,
 // later, learned ones. A Localizer serves one scene and is fed one step at a time, so the same

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // `mmt`: one constant-velocity Kalman filter per object (ConstantVelocityFilter, after AB3DMOT),
 // updated at each step with every view's measurement of the object. An object seen for the first

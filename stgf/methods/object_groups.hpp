@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // Groups one step's measurements by object, for methods that keep one estimate per object and
 // give it to every view that saw the object.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // Methods by name, as the CLI's `--method` knows them.
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // Runs a method over a whole measurement set: a fresh Localizer per scene, steps in time order.
 

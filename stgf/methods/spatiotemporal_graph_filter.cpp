@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #include "stgf/methods/spatiotemporal_graph_filter.hpp"
 
 #include <numeric>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // `ours` as a streaming filter for one scene: the spatiotemporal graph filter (core/scene_filter.hpp)
 // with its motion predictor answering forecast requests at once. Use it in a robot's loop, a ROS

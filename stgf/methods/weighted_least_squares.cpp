@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #include "stgf/methods/weighted_least_squares.hpp"
 
 #include "stgf/core/multi_view_update.hpp"

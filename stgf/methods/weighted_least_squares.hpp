@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // `wls`: the information-weighted mean of the views' measurements of an object at a step — the
 // best linear unbiased estimate without a motion model (DESIGN §2, beyond the paper):

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The stgf command line, run as a user runs it: bad input stops with "FILE:LINE: reason" (FILE as
 // given on the command line), exit status 2 and no output file; good input gives exit 0 and files.
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The constant-velocity Kalman filter of `mmt`: predict and update against the textbook matrix
 // formulas, many views per step against one view at a time, and rate independence.
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The multi-view update (DESIGN §1.3): paper Theorems 1–2, the gain identity, order independence,
 // monotone covariance, uninformative views, a hand-computed case, and property tests on random
 // SPD matrices.

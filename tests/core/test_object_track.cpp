@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // A track in continuous time (core/object_track.hpp): predictions from its state along the forecast,
 // the process noise grown by Q(τ) − Q(τ_s), so it adds up to Q(τ) however many updates came in
 // between; a closed frame leaves the state as the next history position.

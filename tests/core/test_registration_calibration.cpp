@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Calibrating the registration prior (core/registration_calibration.hpp) by marginal likelihood:
 // on data drawn from the model it recovers σ_t and α (including an axis with no offset), on data
 // without offsets it finds none, and mismatched inputs are rejected.

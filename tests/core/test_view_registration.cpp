@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Registration offsets (core/view_registration.hpp): a zero prior is the plain weighted mean; one
 // view alone learns nothing and carries its whole prior; two views learn their difference (to the
 // posterior's accuracy, the hand-computed posterior variance) while the shared part stays at its prior;

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The benchmark folder writer (datasets/benchmark_folder.hpp), on small synthetic benchmarks: the
 // layout the readers accept, replacing a previous benchmark all or nothing, and the counts.
 

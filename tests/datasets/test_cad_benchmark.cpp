@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The cad benchmark built from KITTI tracking (datasets/cad_benchmark.hpp).
 //
 // Small benchmarks (40 / 20 / 40 instances) with fixed seeds. The statistical checks use tolerances

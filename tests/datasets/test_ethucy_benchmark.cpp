@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The ETH/UCY reader (datasets/eth_ucy.hpp) and the ethucy benchmark (datasets/ethucy_benchmark.hpp).
 //
 // The reader runs on the real files shipped in data/eth_ucy and is checked against the table of

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // KITTI tracking readers and the world-frame conversion (datasets/kitti_tracking.hpp).
 //
 // The data are not in the repository (licence); the tests that need them skip when STGF_KITTI_DIR

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The line-of-sight noise and miss model shared by the synthetic, cad and ethucy benchmarks
 // (datasets/line_of_sight.hpp): hand-computed bases, R = U diag(σ²) Uᵀ exactly symmetric with
 // S Sᵀ = R, and the detection probability.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The mpl benchmark (datasets/mpl_benchmark.hpp): PETS 2009 S2.L1 pedestrians seen by its seven
 // calibrated cameras. Small instance counts (30 / 20 / 40) keep the file fast; the statistical
 // checks use fixed seeds and tolerances from the sampling distribution, so they are deterministic

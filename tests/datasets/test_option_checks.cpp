@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The option checks every benchmark builder uses (datasets/option_checks.hpp): each rule passes the
 // values it allows, and fails the others with the message the builders' users read.
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The portable random source and elementary functions (datasets/random.hpp): the same numbers on
 // every platform from a seed.
 //

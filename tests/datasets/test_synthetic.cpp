@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The synthetic benchmark (datasets/synthetic.hpp): motion, views, line-of-sight noise and misses.
 //
 // The statistical checks use fixed seeds and tolerances derived from the sampling distribution

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The text pieces shared by the source-data readers (datasets/text_input.hpp): fields, numbers and
 // files, with the exact rules each reader relies on.
 

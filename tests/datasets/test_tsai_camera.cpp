@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The Tsai camera model (datasets/tsai_camera.hpp) on the eight real PETS 2009 calibrations, and the
 // PETS 2009 S2.L1 reader (datasets/pets2009.hpp) that turns the view-1 annotations into world points.
 

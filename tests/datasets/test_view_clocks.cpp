@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Per-view clocks and latency (datasets/view_clocks.hpp), on hand-made splits and on every builder:
 // phases in [0, T) from the documented streams, rows that move with their objects (the synchronous
 // noise kept exactly), truth at every measured time, arrivals within [t, t + S), and the default

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The XML source files of this layer (datasets/xml_file.hpp): line numbers, attribute numbers, and
 // InputError at the line of the element concerned.
 

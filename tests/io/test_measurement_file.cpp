@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Every bad measurements input named in DESIGN §3 stops with "FILE:LINE: reason" (the header is
 // line 1); one test per case.
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Calibrating Q in the filter's own regime (learn/filter_calibration.hpp) with an untrained Φ on
 // small synthetic scenes: every round's Q is a covariance, the last round's prior NEES is near 3, the
 // model keeps the last Q, the rounds are reproducible, and bad arguments are rejected.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Running `ours` over many scenes at once (methods/filter_runner.hpp) gives what running each scene's
 // filter on its own gives: exactly with a predictor that treats graphs one by one, to single
 // precision with Φ (whose matrix products see other batch sizes).

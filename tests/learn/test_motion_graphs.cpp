@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The motion graphs of a measurement list (learn/motion_graphs.hpp): hand-built cases whose graphs
 // are written out in full, and a synthetic benchmark checked against a brute-force reference.
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The learned motion model Φ on tiny shapes: ragged batches, gradients, save → load, training
 // lowers the loss, Φ beats constant velocity on turning motion, bad model files give clear errors.
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The registration prior in a model file's metadata (learn/registration_metadata.hpp): round trip,
 // absent, malformed; and the prior `ours` runs with once the config's settings are applied.
 

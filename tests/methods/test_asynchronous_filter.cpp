@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The filter on views with their own clocks and late messages (core/scene_filter.hpp): separate calls
 // at one time are one multi-view update; any arrival order within the lag window ends in the state of
 // in-order delivery; a message older than the window is counted and left out, or stops; registration

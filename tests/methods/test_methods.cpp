@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The model-based methods behind the Localizer interface: aom, wls and mmt.
 
 #include <gtest/gtest.h>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // `ours` as a streaming filter: with one view and a constant-velocity predictor it is exactly a
 // Kalman filter (H = I); steps with no views change nothing; views may join mid-scene.
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // Helpers for the tests of the benchmark builders (tests/datasets): the files of a benchmark folder,
 // the splits of a benchmark by name, the truth of a split by (scene, t, object), and the NEES of the

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // Checking the InputError (stgf/io/input_error.hpp) that a reader throws.
 

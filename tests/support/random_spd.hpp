@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // Generators of random symmetric positive definite matrices for property tests.
 //

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // Files on disk in tests: a scratch directory that cleans up after itself, a file's bytes and a
 // folder's entries.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // A motion model shape small enough that an untrained Φ runs in microseconds in tests.
 
