@@ -7,6 +7,7 @@
 #include <spdlog/spdlog.h>
 
 #include "commands.hpp"
+#include "install_layout.hpp"
 #include "stgf/datasets/benchmark_folder.hpp"
 #include "stgf/datasets/cad_benchmark.hpp"
 #include "stgf/datasets/ethucy_benchmark.hpp"
@@ -77,7 +78,6 @@ void add_mpl(CLI::App& dataset) {
   };
   auto options = std::make_shared<Options>();
   MplOptions& m = options->mpl;
-  m.source_directory = STGF_DATA_DIR "/pets2009_s2l1";
   CLI::App* command = dataset.add_subcommand(
       "mpl",
       "PETS 2009 S2L1 pedestrians (real trajectories) seen by its 7 calibrated cameras, with pixel noise\n"
@@ -86,8 +86,8 @@ void add_mpl(CLI::App& dataset) {
       ->required();
   command->add_option("--seed", m.seed, "random seed; the same seed gives byte-identical CSV files")
       ->capture_default_str();
-  command->add_option("--source", m.source_directory, "PETS 2009 S2L1 folder (annotation XML + calibration/)")
-      ->capture_default_str();
+  command->add_option("--source", m.source_directory,
+                      "PETS 2009 S2L1 folder (annotation XML + calibration/; default: the shipped one)");
   command->add_option("--train", m.train_instances, "training instances")->capture_default_str();
   command->add_option("--val", m.val_instances, "validation instances")->capture_default_str();
   command->add_option("--test", m.test_instances, "test instances")->capture_default_str();
@@ -109,7 +109,10 @@ void add_mpl(CLI::App& dataset) {
                       "σ per axis of each camera's position error (m; not in R; 0 = off)")
       ->capture_default_str();
   add_clock_options(*command, m.clocks);
-  command->callback([options] { build_and_write(options->out, [&] { return make_mpl_benchmark(options->mpl); }); });
+  command->callback([options] {
+    if (options->mpl.source_directory.empty()) options->mpl.source_directory = shipped_data_directory() + "/pets2009_s2l1";
+    build_and_write(options->out, [&] { return make_mpl_benchmark(options->mpl); });
+  });
 }
 
 void add_cad(CLI::App& dataset) {
@@ -119,7 +122,6 @@ void add_cad(CLI::App& dataset) {
   };
   auto options = std::make_shared<Options>();
   CadOptions& c = options->cad;
-  c.source_directory = STGF_KITTI_DIR;
   CLI::App* command = dataset.add_subcommand(
       "cad",
       "KITTI tracking (real 10 Hz tracks): the ego car and up to three other moving cars act as connected\n"
@@ -128,8 +130,9 @@ void add_cad(CLI::App& dataset) {
       ->required();
   command->add_option("--seed", c.seed, "random seed; the same seed gives byte-identical CSV files")
       ->capture_default_str();
-  command->add_option("--source", c.source_directory, "KITTI tracking training folder with label/ oxts/ calib/")
-      ->capture_default_str();
+  command->add_option("--source", c.source_directory,
+                      "KITTI tracking training folder: label/ oxts/ calib/ (default: $STGF_KITTI_DIR, else "
+                      "share/stgf/kitti_tracking; KITTI is not shipped, see data/README.md)");
   command->add_option("--train", c.train_instances, "training instances")->capture_default_str();
   command->add_option("--val", c.val_instances, "validation instances")->capture_default_str();
   command->add_option("--test", c.test_instances, "test instances")->capture_default_str();
@@ -157,7 +160,10 @@ void add_cad(CLI::App& dataset) {
                       "σ of each vehicle's heading error (degrees; not in R; 0 = off)")
       ->capture_default_str();
   add_clock_options(*command, c.clocks);
-  command->callback([options] { build_and_write(options->out, [&] { return make_cad_benchmark(options->cad); }); });
+  command->callback([options] {
+    if (options->cad.source_directory.empty()) options->cad.source_directory = default_kitti_directory();
+    build_and_write(options->out, [&] { return make_cad_benchmark(options->cad); });
+  });
 }
 
 void add_ethucy(CLI::App& dataset) {
@@ -167,14 +173,13 @@ void add_ethucy(CLI::App& dataset) {
   };
   auto options = std::make_shared<Options>();
   EthUcyOptions& e = options->ethucy;
-  e.source_directory = STGF_DATA_DIR "/eth_ucy";
   CLI::App* command = dataset.add_subcommand(
       "ethucy",
       "ETH/UCY pedestrians (real trajectories) seen by simulated cameras around each scene; leave-one-scene-out.");
   command->add_option("--out", options->out, "benchmark folder to write (replaced if it is a previous benchmark)")
       ->required();
   command->add_option("--seed", e.seed, "random seed; the same seed gives byte-identical files")->capture_default_str();
-  command->add_option("--source", e.source_directory, "folder with the eight ETH/UCY files")->capture_default_str();
+  command->add_option("--source", e.source_directory, "folder with the eight ETH/UCY files (default: the shipped one)");
   command->add_option("--test-scene", e.test_scene, "held-out scene")
       ->capture_default_str()
       ->check(CLI::IsMember({"eth", "hotel", "univ", "zara1", "zara2"}));
@@ -190,7 +195,10 @@ void add_ethucy(CLI::App& dataset) {
                       "σ of each camera's registration offset per instance (m; not in R; 0 = off)")
       ->capture_default_str();
   add_clock_options(*command, e.clocks);
-  command->callback([options] { build_and_write(options->out, [&] { return make_ethucy_benchmark(options->ethucy); }); });
+  command->callback([options] {
+    if (options->ethucy.source_directory.empty()) options->ethucy.source_directory = shipped_data_directory() + "/eth_ucy";
+    build_and_write(options->out, [&] { return make_ethucy_benchmark(options->ethucy); });
+  });
 }
 
 }  // namespace

@@ -26,6 +26,7 @@
 
 #include "commands.hpp"
 #include "figures.hpp"
+#include "install_layout.hpp"
 #include "method_runner.hpp"
 #include "reproduce_report.hpp"
 #include "training_pipeline.hpp"
@@ -60,8 +61,8 @@ struct ReproduceOptions {
   int epochs = 0;   // 0: 8, or 3 with --quick
   int threads = 0;  // LibTorch threads for training (0: all cores)
   std::vector<int> instances;  // train, val, test instances; empty: the benchmark's defaults (or --quick's)
-  std::string mpl_source = STGF_DATA_DIR "/pets2009_s2l1";
-  std::string kitti_source = STGF_KITTI_DIR;
+  std::string mpl_source;    // "": the shipped data (install_layout.hpp)
+  std::string kitti_source;  // "": STGF_KITTI_DIR or share/stgf/kitti_tracking
 };
 
 class Stopwatch {
@@ -394,10 +395,7 @@ void reproduce(const ReproduceOptions& options) {
 
 void add_reproduce_command(CLI::App& app) {
   auto options = std::make_shared<ReproduceOptions>();
-  CLI::App* command = app.add_subcommand(
-      "reproduce",
-      "The paper's experiments end to end: build the benchmarks, train the models, run all six methods on "
-      "the test splits, and write Table I, the number-of-views curve and trajectory plots.");
+  CLI::App* command = app.add_subcommand("reproduce", kReproduceDescription);
   command->add_option("--benchmarks", options->benchmarks, "comma-separated: mpl (built-in PETS 2009 data), cad (KITTI)")
       ->delimiter(',')
       ->capture_default_str();
@@ -413,10 +411,15 @@ void add_reproduce_command(CLI::App& app) {
   command->add_option("--epochs", options->epochs, "training epochs (default 8, or 3 with --quick)")
       ->check(CLI::PositiveNumber);
   command->add_option("--threads", options->threads, "LibTorch threads for training (0: all cores)")->capture_default_str();
-  command->add_option("--mpl-source", options->mpl_source, "PETS 2009 S2L1 folder")->capture_default_str();
-  command->add_option("--kitti-source", options->kitti_source, "KITTI tracking training folder (for cad)")
-      ->capture_default_str();
-  command->callback([options] { reproduce(*options); });
+  command->add_option("--mpl-source", options->mpl_source, "PETS 2009 S2L1 folder (default: the shipped one)");
+  command->add_option("--kitti-source", options->kitti_source,
+                      "KITTI tracking training folder, for cad (default: $STGF_KITTI_DIR, else share/stgf/kitti_tracking)");
+  command->callback([options] {
+    ReproduceOptions resolved = *options;
+    if (resolved.mpl_source.empty()) resolved.mpl_source = shipped_data_directory() + "/pets2009_s2l1";
+    if (resolved.kitti_source.empty()) resolved.kitti_source = default_kitti_directory();
+    reproduce(resolved);
+  });
 }
 
 }  // namespace stgf::cli

@@ -2,20 +2,21 @@
 // stgf run --method NAME --measurements M.csv --out E.csv [--config C.yaml]
 
 #include <chrono>
-#include <optional>
+#include <memory>
 #include <stdexcept>
 
 #include <spdlog/spdlog.h>
 
 #include "commands.hpp"
 #include "input_guard.hpp"
-#include "method_runner.hpp"
+#include "method_names.hpp"
 #include "stgf/core/scene_filter.hpp"
 #include "stgf/core/steps.hpp"
 #include "stgf/io/input_error.hpp"
 #include "stgf/io/estimate_file.hpp"
 #include "stgf/io/measurement_file.hpp"
 #include "stgf/io/method_config_file.hpp"
+#include "stgf/methods/run_method.hpp"
 
 namespace stgf::cli {
 namespace {
@@ -32,12 +33,13 @@ void run(const RunOptions& options) {
   refuse_output_over_input("--out", options.out, {options.measurements, options.config, options.model});
   const auto start = std::chrono::steady_clock::now();
   const MethodConfig config = options.config.empty() ? MethodConfig{} : read_method_config(options.config);
-  std::optional<MotionModel> model;
-  if (is_learned_method(options.method)) model = load_model_for(options.method, options.model);
+  // Before anything is read: in `stgf`, a learned method hands the command line over to stgf-learned.
+  std::unique_ptr<LearnedMethod> learned;
+  if (is_learned_method(options.method)) learned = prepare_learned_method(options.method, config, options.model);
   MeasurementFile measurements = read_measurements(options.measurements);
   std::vector<Gaussian3> positions;
   try {
-    positions = run_named_method(options.method, config, model ? &*model : nullptr, options.model, measurements.rows);
+    positions = learned ? learned->run(measurements.rows) : run_method(options.method, config, measurements.rows);
   } catch (const LateMeasurementError& late) {
     throw InputError(options.measurements, measurements.lines.at(late.id()), late.what());
   }

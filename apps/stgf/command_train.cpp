@@ -10,8 +10,7 @@ namespace stgf::cli {
 void add_train_command(CLI::App& app) {
   auto options = std::make_shared<ModelTraining>();
   MotionTrainingOptions& t = options->training;
-  CLI::App* command = app.add_subcommand(
-      "train", "Train the learned motion model Φ on a benchmark folder's train split, validating on val.");
+  CLI::App* command = app.add_subcommand("train", kTrainDescription);
   command->add_option("--benchmark", options->benchmark, "benchmark folder (train/ and val/)")->required();
   command->add_option("--out", options->out, "model file to write (the best epoch's model)")->required();
   command->add_option("--input", options->input, "histories Φ learns from: raw (one view's measurements, for sttp) "

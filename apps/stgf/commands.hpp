@@ -7,6 +7,13 @@
 
 namespace stgf::cli {
 
+// Shared by the commands' two homes (stgf lists them, stgf-learned runs them; method_names.hpp).
+inline constexpr const char* kTrainDescription =
+    "Train the learned motion model Φ on a benchmark folder's train split, validating on val.";
+inline constexpr const char* kReproduceDescription =
+    "The paper's experiments end to end: build the benchmarks, train the models, run all six methods on the test "
+    "splits, and write Table I, the number-of-views curve and trajectory plots.";
+
 void add_run_command(CLI::App& app);
 void add_eval_command(CLI::App& app);
 void add_dataset_command(CLI::App& app);

@@ -12,15 +12,6 @@
 
 namespace stgf::cli {
 
-const std::vector<std::string>& all_method_names() {
-  static const std::vector<std::string> names = {"aom", "wls", "mmt", "sttp", "ours-l", "ours"};
-  return names;
-}
-
-bool is_learned_method(const std::string& method) {
-  return method == "sttp" || method == "ours-l" || method == "ours";
-}
-
 MotionModel load_model_for(const std::string& method, const std::string& model_path) {
   if (model_path.empty()) throw std::invalid_argument("--method " + method + " needs --model");
   MotionModel model = MotionModel::load(model_path);
@@ -85,6 +76,34 @@ std::vector<Gaussian3> run_named_method(const std::string& method, const MethodC
                  method, run.late_measurements, options.lag_window);
   }
   return std::move(run.estimates);
+}
+
+namespace {
+
+class LoadedMethod final : public LearnedMethod {
+ public:
+  LoadedMethod(std::string method, MethodConfig config, std::string model_path)
+      : method_(std::move(method)),
+        config_(std::move(config)),
+        model_path_(std::move(model_path)),
+        model_(load_model_for(method_, model_path_)) {}
+
+  std::vector<Gaussian3> run(std::span<const Measurement> rows) const override {
+    return run_named_method(method_, config_, &model_, model_path_, rows);
+  }
+
+ private:
+  std::string method_;
+  MethodConfig config_;
+  std::string model_path_;
+  MotionModel model_;
+};
+
+}  // namespace
+
+std::unique_ptr<LearnedMethod> prepare_learned_method(const std::string& method, const MethodConfig& config,
+                                                      const std::string& model_path) {
+  return std::make_unique<LoadedMethod>(method, config, model_path);
 }
 
 }  // namespace stgf::cli

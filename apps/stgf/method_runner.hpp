@@ -1,21 +1,19 @@
 // SPDX-License-Identifier: Apache-2.0
 #pragma once
-// Any method of DESIGN §2 by name, over measurement rows (stgf run, stgf reproduce).
+// Any method of DESIGN §2 by name, over measurement rows, with the model loaded once (stgf-learned:
+// stgf run with a learned method, stgf reproduce).
 
 #include <optional>
 #include <span>
 #include <string>
 #include <vector>
 
+#include "method_names.hpp"
 #include "stgf/core/records.hpp"
 #include "stgf/learn/motion_model.hpp"
 #include "stgf/methods/registry.hpp"
 
 namespace stgf::cli {
-
-// aom, wls, mmt, sttp, ours-l, ours.
-const std::vector<std::string>& all_method_names();
-bool is_learned_method(const std::string& method);
 
 // Loads the model a learned method needs and checks it was trained on the right input (raw for sttp,
 // fused for ours-l and ours); std::invalid_argument naming the file otherwise.

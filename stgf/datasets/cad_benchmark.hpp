@@ -135,8 +135,8 @@ namespace stgf {
 struct CadOptions {
   // ── Source and shape ──
   std::uint64_t seed = 1;                                          // every random draw derives from it
-  std::string source_directory = "../shared/data/kitti_tracking";  // holds label/ oxts/ calib/ (relative
-                                                                   //   to the working directory)
+  std::string source_directory;                                    // holds label/ oxts/ calib/ (KITTI is not
+                                                                   //   shipped: the caller says where it is)
   std::vector<std::string> train_sequences = {"0002", "0003", "0005", "0006", "0008", "0018"};
   std::vector<std::string> val_sequences = {"0004", "0010"};  // disjoint by sequence (see above)
   std::vector<std::string> test_sequences = {"0011", "0020"};

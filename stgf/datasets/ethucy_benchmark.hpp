@@ -101,8 +101,8 @@ namespace stgf {
 struct EthUcyOptions {
   // ── Source and shape ──
   std::uint64_t seed = 1;                         // every random draw derives from it
-  std::string source_directory = "data/eth_ucy";  // folder with the eight ETH/UCY files (relative to the
-                                                  //   working directory unless absolute)
+  std::string source_directory;                   // folder with the eight ETH/UCY files (the CLI's default:
+                                                  //   the shipped data/eth_ucy)
   std::string test_scene = "eth";                 // eth | hotel | univ | zara1 | zara2: the held-out scene
   // Instances per split; 0 = one per eligible window. Defaults: 3000 train and 500 val fit in every
   // leave-one-out pool without repeating a window (12 steps, ≥ 2 pedestrians: 3202–3721 train and

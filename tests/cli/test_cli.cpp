@@ -12,6 +12,8 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include "stgf/version.hpp"
+
 namespace {
 
 namespace fs = std::filesystem;
@@ -95,6 +97,57 @@ TEST_F(Cli, HelpListsTheCommands) {
     EXPECT_EQ(help.status, 0) << command;
     EXPECT_THAT(help.out, HasSubstr("--")) << command;
   }
+}
+
+TEST_F(Cli, VersionIsTheProjectsAndStartsWithoutLibTorch) {
+  const Result result = stgf("--version");
+  EXPECT_EQ(result.status, 0);
+  EXPECT_EQ(result.out, "stgf " STGF_VERSION_STRING "\n");
+  // The small path (run with a model-free method, eval, plot, dataset) must not load LibTorch.
+  const std::string ldd = "ldd '" STGF_BINARY "' > '" + (directory_ / "ldd.txt").string() + "'";
+  ASSERT_EQ(std::system(ldd.c_str()), 0);
+  EXPECT_THAT(slurp(directory_ / "ldd.txt"), Not(HasSubstr("libtorch")));
+  EXPECT_THAT(slurp(directory_ / "ldd.txt"), Not(HasSubstr("libstgf_learn")));
+}
+
+TEST_F(Cli, MistypedNamesGetTheClosestValidOne) {
+  Result result = stgf("rn");
+  EXPECT_EQ(result.status, 2);
+  EXPECT_THAT(result.err, HasSubstr("stgf: unknown argument 'rn' (did you mean 'run'?)"));
+  result = stgf("run --metod wls --measurements m.csv --out e.csv");
+  EXPECT_EQ(result.status, 2);
+  EXPECT_THAT(result.err, HasSubstr("stgf run: unknown argument '--metod' (did you mean '--method'?)"));
+  result = stgf("dataset mpl --out b --sed 3");
+  EXPECT_EQ(result.status, 2);
+  EXPECT_THAT(result.err, HasSubstr("stgf dataset mpl: unknown argument '--sed' (did you mean '--seed'?)"));
+  result = stgf("run --method wls --measurements m.csv --out e.csv --zzzzzzzz");
+  EXPECT_EQ(result.status, 2);
+  EXPECT_THAT(result.err, HasSubstr("stgf run: unknown argument '--zzzzzzzz' (see stgf run --help)"));
+}
+
+TEST_F(Cli, QuietAndVerbose) {
+  write("m.csv", kHeader + kGoodRows);
+  Result result = stgf("run --method wls --measurements m.csv --out e.csv");
+  EXPECT_EQ(result.status, 0);
+  EXPECT_THAT(result.err, HasSubstr("wls: 3 estimates"));
+  result = stgf("-q run --method wls --measurements m.csv --out e2.csv");
+  EXPECT_EQ(result.status, 0);
+  EXPECT_EQ(result.err, "");
+  result = stgf("run --method wls --measurements m.csv --out e3.csv --quiet");
+  EXPECT_EQ(result.status, 0);
+  EXPECT_EQ(result.err, "");
+  EXPECT_EQ(stgf("-q -v run --method wls --measurements m.csv --out e4.csv").status, 2);
+}
+
+TEST_F(Cli, LearnedCommandsAreHandedOverWithTheirOwnHelp) {
+  // train's options live in stgf-learned; stgf hands `train --help` over whole.
+  const Result result = stgf("train --help");
+  EXPECT_EQ(result.status, 0);
+  EXPECT_THAT(result.out, HasSubstr("--benchmark"));
+  EXPECT_THAT(result.out, HasSubstr("--epochs"));
+  const Result missing = stgf("train --epochs 1");
+  EXPECT_EQ(missing.status, 2);
+  EXPECT_THAT(missing.err, HasSubstr("--benchmark is required"));
 }
 
 TEST_F(Cli, UsageErrorsExitWithTwo) {

@@ -506,7 +506,9 @@ TEST(CadBenchmark, RejectsBadOptionsAndMissingFiles) {
       EXPECT_NE(std::string(error.what()).find(expected), std::string::npos) << error.what();
     }
   }
-  EXPECT_NO_THROW(validate_cad_options(CadOptions{}));
+  EXPECT_NO_THROW(validate_cad_options(small_options()));
+  // KITTI is not shipped: the default options name no source, and say so.
+  EXPECT_THROW(validate_cad_options(CadOptions{}), std::invalid_argument);
 
   CadOptions missing = small_options();
   missing.source_directory = "/nonexistent/kitti";

@@ -1,0 +1,48 @@
+// SPDX-License-Identifier: Apache-2.0
+#include "method_names.hpp"
+
+#include <unistd.h>
+
+#include <cerrno>
+#include <cstring>
+#include <stdexcept>
+
+#include "install_layout.hpp"
+
+namespace stgf::cli {
+namespace {
+
+std::vector<char*>& command_line() {
+  static std::vector<char*> arguments;
+  return arguments;
+}
+
+}  // namespace
+
+const std::vector<std::string>& all_method_names() {
+  static const std::vector<std::string> names = {"aom", "wls", "mmt", "sttp", "ours-l", "ours"};
+  return names;
+}
+
+bool is_learned_method(const std::string& method) {
+  return method == "sttp" || method == "ours-l" || method == "ours";
+}
+
+void remember_command_line(int argc, char** argv) {
+  command_line().assign(argv, argv + argc);
+  command_line().push_back(nullptr);
+}
+
+void hand_over_to_learned_cli(const std::string& what) {
+  const std::string learned = learned_cli_path();
+  if (learned.empty()) {
+    throw std::runtime_error(what + " needs the learned motion model, and this stgf was built without LibTorch "
+                             "(no stgf-learned beside it: build with -DSTGF_WITH_LIBTORCH=ON)");
+  }
+  std::vector<char*> arguments = command_line();
+  if (arguments.empty()) throw std::logic_error("hand_over_to_learned_cli: remember_command_line was not called");
+  ::execv(learned.c_str(), arguments.data());
+  throw std::runtime_error("cannot start " + learned + ": " + std::strerror(errno));
+}
+
+}  // namespace stgf::cli

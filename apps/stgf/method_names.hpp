@@ -1,0 +1,46 @@
+// SPDX-License-Identifier: Apache-2.0
+#pragma once
+// The methods of `stgf run` by name, and the seam between the CLI's two executables:
+//
+//   stgf           everything that needs no LibTorch (run with aom, wls, mmt; eval; plot; dataset),
+//                  so that `stgf --version`, `stgf run --method wls` and `stgf eval` do not pay
+//                  LibTorch's start-up (0.7 s and 165 MB, measured);
+//   stgf-learned   the same CLI with the learned motion model Φ linked in (train, reproduce, and run
+//                  with sttp, ours-l, ours). stgf hands its whole command line over to it (exec) when
+//                  one of those is asked for, so a user only ever types `stgf`.
+
+#include <memory>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "stgf/core/gaussian.hpp"
+#include "stgf/core/records.hpp"
+#include "stgf/methods/registry.hpp"
+
+namespace stgf::cli {
+
+// aom, wls, mmt, sttp, ours-l, ours.
+const std::vector<std::string>& all_method_names();
+bool is_learned_method(const std::string& method);
+
+// A learned method with its model loaded and checked, ready to run.
+class LearnedMethod {
+ public:
+  virtual ~LearnedMethod() = default;
+  // One estimate per row, in order.
+  virtual std::vector<Gaussian3> run(std::span<const Measurement> rows) const = 0;
+};
+
+// Loads the model of a learned method (std::invalid_argument naming the file when it is missing or
+// trained for another method). In `stgf`, hands the command line over to stgf-learned instead.
+std::unique_ptr<LearnedMethod> prepare_learned_method(const std::string& method, const MethodConfig& config,
+                                                      const std::string& model_path);
+
+// main() keeps the command line so that it can be handed over whole.
+void remember_command_line(int argc, char** argv);
+// Replaces this process with stgf-learned run on the same command line; std::runtime_error when
+// stgf-learned is missing (an installation built without LibTorch) or cannot be started.
+[[noreturn]] void hand_over_to_learned_cli(const std::string& what);
+
+}  // namespace stgf::cli
