@@ -11,8 +11,8 @@
 //
 // ── Splits ──────────────────────────────────────────────────────────────────────────────────────
 // Disjoint by sequence: every sequence belongs to at most one split (checked). Default assignment of
-// the ten sequences in ../shared/data/kitti_tracking (SOURCES.md §4), with their frames, moving
-// vehicle tracks (SOURCES.md: Car/Van/Truck averaging > 0.5 m/s) and, with the default options, the
+// ten KITTI tracking training sequences (not shipped; data/README.md), with their frames, moving
+// vehicle tracks (Car/Van/Truck averaging > 0.5 m/s) and, with the default options, the
 // eligible windows (below) and the share of chosen objects that move:
 //   train  0002 0003 0005 0006 0008 0018   1673 frames, 78 moving vehicles, 632 windows, 74% moving
 //   val    0004 0010                        608 frames, 34 moving vehicles, 113 windows, 51% moving

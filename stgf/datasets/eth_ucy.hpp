@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: Apache-2.0
 #pragma once
-// The ETH and UCY pedestrian files (data/eth_ucy/, see data/README.md and shared/data/SOURCES.md §1)
+// The ETH and UCY pedestrian files (data/eth_ucy/; their source and terms: data/README.md)
 // read with stgf's own code into Recordings, and the table of the standard leave-one-scene-out scenes.
 //
 // ── File format ──────────────────────────────────────────────────────────────────────────────────

@@ -2,7 +2,7 @@
 #pragma once
 // KITTI tracking (Geiger, Lenz, Urtasun, CVPR 2012): readers for the label, oxts and calib files
 // of one training sequence, and the conversion of its labelled 3D boxes and its GPS/IMU poses into
-// one world frame (DESIGN §5, ../shared/data/SOURCES.md §4). The files are read with this code
+// one world frame (DESIGN §5; the files and their terms: data/README.md). The files are read with this code
 // only; the `derived/` CSVs beside them serve to check it (tests/datasets/test_kitti_tracking.cpp).
 //
 // ── Files ────────────────────────────────────────────────────────────────────────────────────────

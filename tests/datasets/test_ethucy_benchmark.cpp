@@ -1,10 +1,10 @@
 // SPDX-License-Identifier: Apache-2.0
 // The ETH/UCY reader (datasets/eth_ucy.hpp) and the ethucy benchmark (datasets/ethucy_benchmark.hpp).
 //
-// The reader runs on the real files shipped in data/eth_ucy and is checked against the table of
-// shared/data/SOURCES.md §1. The benchmark tests build small benchmarks from those files; the
-// statistical checks use fixed seeds and tolerances of 5 standard errors, so they are deterministic
-// and still fail when the model is wrong.
+// The reader runs on the real files shipped in data/eth_ucy (data/README.md) and is checked against
+// their known statistics (the table below). The benchmark tests build small benchmarks from those
+// files; the statistical checks use fixed seeds and tolerances of 5 standard errors, so they are
+// deterministic and still fail when the model is wrong.
 
 #include <gtest/gtest.h>
 
@@ -115,7 +115,7 @@ std::string scene_name(const std::string& split, int index) {
 
 // ── Reader ──
 
-// Rows, pedestrians, time steps and frame range of SOURCES.md §1 (frame range / 10).
+// Rows, pedestrians, time steps and frame range (divided by 10) of each file as copied (data/README.md).
 TEST(EthUcyReader, ReadsTheRealFilesAsSourcesDescribes) {
   struct Expected {
     std::string file;
