@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: Apache-2.0
 #pragma once
-// PETS 2009 S2.L1 ground truth as world trajectories (data/SOURCES.md §2; the mpl benchmark's source).
+// PETS 2009 S2.L1 ground truth as world trajectories (data/README.md §2; the mpl benchmark's source).
 //
 // The annotation file (Anton Milan's, CVML layout) holds boxes in view-1 image pixels:
 //   <dataset>

@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: Apache-2.0
 #pragma once
 // A calibrated camera in R. Y. Tsai's model (IEEE J. Robotics and Automation 3(4), 1987), as the
-// PETS 2009 calibration files give it (View_001.xml … View_008.xml; data/SOURCES.md §2), and the
+// PETS 2009 calibration files give it (View_001.xml … View_008.xml; data/README.md §2), and the
 // geometry the mpl benchmark needs: project a world point to a pixel, back-project a pixel onto the
 // ground, the Jacobian of that back-projection, and a camera whose pose differs slightly from the
 // calibration.

@@ -197,7 +197,7 @@ TEST(MultiViewUpdate, WeightedMeanNeedsAMeasurement) {
   EXPECT_THROW(information_weighted_mean({}), std::invalid_argument);
 }
 
-// Diffuse initialisation (DESIGN §1.5): x = 0, P = 10⁴·I makes the first update the
+// A diffuse prior x = 0, P = 10⁴·I (an earlier start; DESIGN §1.5 now uses the exact limit) makes the first update the
 // information-weighted mean of the measurements, up to the prior's tiny weight.
 TEST(MultiViewUpdate, DiffusePriorGivesTheWeightedMean) {
   std::mt19937_64 rng(3);

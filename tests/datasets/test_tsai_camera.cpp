@@ -34,7 +34,7 @@ TsaiCamera camera_of_view(int view) {
   return read_tsai_camera(pets2009_calibration_path(kSourceDirectory, view));
 }
 
-// Ground points (z = 0) over the PETS world extent (x −20 … 7 m, y −16 … 7 m, data/SOURCES.md) and
+// Ground points (z = 0) over the PETS world extent (x −20 … 7 m, y −16 … 7 m, data/README.md) and
 // beyond, on a grid.
 std::vector<Vector3d> ground_grid() {
   std::vector<Vector3d> points;
@@ -329,7 +329,7 @@ TEST(Pets2009, RecordingHasTheSequencesShape) {
   EXPECT_EQ(recording.name, "PETS2009-S2L1");
   EXPECT_DOUBLE_EQ(recording.rate_hz, 7.0);
   ASSERT_EQ(recording.frames.size(),
-            795u);  // data/SOURCES.md: frames 0–794, 19 ids, 4650 boxes, ≤ 8 per frame
+            795u);  // data/README.md: frames 0–794, 19 ids, 4650 boxes, ≤ 8 per frame
   EXPECT_EQ(recording.frames.begin()->first, 0);
   EXPECT_EQ(recording.frames.rbegin()->first, 794);
   std::map<std::string, int> frames_per_person;
@@ -404,7 +404,7 @@ TEST(Pets2009, WorldPointsAgreeWithTheDerivedCsv) {
 }
 
 TEST(Pets2009, ShareOfFootPointsEachCameraSees) {
-  // data/SOURCES.md: 2 0.91, 3 0.99, 4 0.91, 5 0.59, 6 0.63, 7 0.73, 8 0.68. View 7 differs: its
+  // data/README.md: 2 0.91, 3 0.99, 4 0.91, 5 0.59, 6 0.63, 7 0.73, 8 0.68. View 7 differs: its
   // κ₁ < 0 model folds, and 1996 of the 4650 points lie beyond the fold (no image); an undistortion by
   // 20 fixed-point iterations r ← r_u/(1 + κ₁r²), which does not converge there, lands 813 of them in
   // the image and gives 0.733. The Newton solve with the fold respected gives 0.558.
