@@ -220,7 +220,7 @@ fs::path run_and_write(const std::string& method, const std::string& label, cons
                        const MotionModel* model, const std::string& model_path, const MeasurementFile& measurements,
                        const fs::path& folder, std::map<std::string, double>& timings) {
   const Stopwatch watch;
-  const std::vector<Gaussian3> positions = run_named_method(method, config, model, model_path, measurements.rows);
+  const std::vector<Gaussian3> positions = run_method_and_log(method, config, model, model_path, measurements.rows);
   std::vector<Estimate> estimates;
   estimates.reserve(positions.size());
   for (std::size_t k = 0; k < positions.size(); ++k) {

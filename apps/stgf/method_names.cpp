@@ -19,15 +19,6 @@ std::vector<char*>& command_line() {
 
 }  // namespace
 
-const std::vector<std::string>& all_method_names() {
-  static const std::vector<std::string> names = {"aom", "wls", "mmt", "sttp", "ours-l", "ours"};
-  return names;
-}
-
-bool is_learned_method(const std::string& method) {
-  return method == "sttp" || method == "ours-l" || method == "ours";
-}
-
 void remember_command_line(int argc, char** argv) {
   command_line().assign(argv, argv + argc);
   command_line().push_back(nullptr);

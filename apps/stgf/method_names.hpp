@@ -20,9 +20,7 @@
 
 namespace stgf::cli {
 
-// aom, wls, mmt, sttp, ours-l, ours.
-const std::vector<std::string>& all_method_names();
-bool is_learned_method(const std::string& method);
+// The methods by name: all_method_names() and is_learned_method() of stgf/methods/registry.hpp.
 
 // A learned method with its model loaded and checked, ready to run.
 class LearnedMethod {

@@ -23,4 +23,11 @@ std::unique_ptr<Localizer> make_localizer(const std::string& name, const MethodC
   throw std::invalid_argument("unknown method '" + name + "' (known: " + known + ")");
 }
 
+const std::vector<std::string>& all_method_names() {
+  static const std::vector<std::string> names = {"aom", "wls", "mmt", "sttp", "ours-l", "ours"};
+  return names;
+}
+
+bool is_learned_method(const std::string& name) { return name == "sttp" || name == "ours-l" || name == "ours"; }
+
 }  // namespace stgf

@@ -33,6 +33,11 @@ struct MethodConfig {
 // The names `make_localizer` accepts, in the order tables list them.
 const std::vector<std::string>& method_names();
 
+// Every method `stgf run` knows, in the order tables list them: aom, wls, mmt (model-free, above)
+// and sttp, ours-l, ours (they need the learned motion model: stgf/learn/named_methods.hpp).
+const std::vector<std::string>& all_method_names();
+bool is_learned_method(const std::string& name);
+
 // A fresh localizer for one scene. Throws std::invalid_argument for an unknown name.
 std::unique_ptr<Localizer> make_localizer(const std::string& name, const MethodConfig& config);
 
