@@ -8,6 +8,7 @@ packages=(
   libeigen3-dev libfmt-dev libspdlog-dev nlohmann-json3-dev libyaml-cpp-dev libcli11-dev libpugixml-dev
   libtorch-dev libopenblas0-openmp
   libgtest-dev libgmock-dev librapidcheck-dev libbenchmark-dev
+  python3-dev pybind11-dev python3-numpy
   gnuplot-nox
 )
 
