@@ -5,10 +5,13 @@
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
+#include <limits>
 #include <map>
+#include <numbers>
 #include <set>
 #include <stdexcept>
 
+#include <Eigen/Eigenvalues>
 #include <fmt/format.h>
 
 #include "stgf/io/output_file.hpp"
@@ -50,13 +53,47 @@ std::string script(const std::string& stem, const std::string& settings, const s
       stem, settings, plot);
 }
 
-// One colour per method in every figure; the filter (ours) stands out.
-std::string colour_of(const std::string& method) {
-  static const std::map<std::string, std::string> colours = {
-      {"aom", "#7b3294"},  {"wls", "#1b9e77"},   {"mmt", "#56b4e9"},
-      {"sttp", "#e69f00"}, {"ours-l", "#a6761d"}, {"ours", "#d7191c"}};
-  const auto found = colours.find(method);
-  return found == colours.end() ? "#666666" : found->second;
+// Double-quoted for gnuplot, so that "\n" breaks the line (a backslash and a quote are escaped).
+std::string gnuplot_double_quoted(const std::string& text) {
+  std::string quoted = "\"";
+  for (const char c : text) {
+    if (c == '\n') {
+      quoted += "\\n";
+      continue;
+    }
+    if (c == '"' || c == '\\') quoted += '\\';
+    quoted += c;
+  }
+  return quoted + "\"";
+}
+
+// How a method is drawn in every figure: its colour, gnuplot point type and dash type. No two
+// methods share a point type or a colour, so lines that coincide (wls and mmt often do) still tell
+// apart; the filter (ours) is a solid red line with filled circles and stands out.
+struct MethodStyle {
+  std::string colour;
+  int point_type;  // pngcairo/svg: 4 □ 5 ■ 6 ○ 7 ● 9 ▲ 11 ▼ 12 ◇ 13 ◆
+  int dash_type;   // 1 solid, 2 dashed, 3 short dashes, 4 dash-dot, 5 dash-dot-dot
+};
+
+MethodStyle style_of(const std::string& method) {
+  static const std::map<std::string, MethodStyle> styles = {
+      {"aom", {"#7b3294", 5, 1}},
+      {"wls", {"#1b9e77", 6, 2}},
+      {"mmt", {"#56b4e9", 9, 1}},
+      {"sttp", {"#e69f00", 11, 1}},
+      {"ours-l", {"#a6761d", 13, 4}},
+      {"ours", {"#d7191c", 7, 1}},
+      {"ours-registration-off", {"#e7298a", 4, 3}},
+      {"ours-per-view", {"#0072b2", 12, 5}}};
+  const auto found = styles.find(method);
+  if (found != styles.end()) return found->second;
+  // Another method: a grey-ish colour and an open triangle, picked by its name so it is the same
+  // in every figure.
+  static const std::vector<std::string> fallback = {"#666666", "#8da0cb", "#66a61e", "#b3a000", "#999999"};
+  std::size_t hash = 0;
+  for (const char c : method) hash = hash * 31 + static_cast<unsigned char>(c);
+  return {fallback[hash % fallback.size()], 8, 1 + static_cast<int>(hash % 5)};
 }
 
 }  // namespace
@@ -88,19 +125,31 @@ void write_views_curve(const Evaluation& evaluation, const std::string& director
     }
     data += "\n";
   }
-  std::string plot = "plot ";
-  for (std::size_t m = 0; m < evaluation.methods.size(); ++m) {
+  // Method m's points sit (m − (M − 1)/2)·0.06 views off the whole number, so equal numbers of two
+  // methods show side by side; each has its own point type and dash pattern too.
+  const std::size_t method_count = evaluation.methods.size();
+  const double spread = 0.06;
+  std::string plot = fmt::format(
+      "# Each method's points are shifted sideways by a multiple of {} views (the .dat keeps the whole\n"
+      "# numbers) so that methods with equal DE, like wls and mmt, do not hide one another.\nplot ",
+      spread);
+  for (std::size_t m = 0; m < method_count; ++m) {
     if (m > 0) plot += ", \\\n     ";
     const std::string& method = evaluation.methods[m].method;
-    plot += fmt::format("'{}.dat' using 1:{} with linespoints lw {} pt 7 lc rgb '{}' title {}", stem, m + 2,
-                        method == "ours" ? 3 : 2, colour_of(method), gnuplot_quoted(method));
+    const MethodStyle style = style_of(method);
+    const double offset = (static_cast<double>(m) - 0.5 * static_cast<double>(method_count - 1)) * spread;
+    plot += fmt::format(
+        "{} using ($1{:+.2f}):{} with linespoints lw {} dt {} pt {} ps 1.3 lc rgb '{}' title {} noenhanced",
+        gnuplot_quoted(stem + ".dat"), offset, m + 2, method == "ours" ? 3 : 2, style.dash_type, style.point_type,
+        style.colour, gnuplot_quoted(method));
   }
   const int lowest = counts.empty() ? 1 : *counts.begin();
   const int highest = counts.empty() ? 1 : *counts.rbegin();
+  const double margin = 0.25 + 0.5 * spread * static_cast<double>(method_count);
   const std::string settings = fmt::format(
-      "set title {}\nset xlabel 'number of views that saw the object'\nset ylabel 'DE (m)'\n"
+      "set title {} noenhanced\nset xlabel 'number of views that saw the object'\nset ylabel 'DE (m)'\n"
       "set logscale y\nset grid\nset key outside right\nset xrange [{}:{}]\nset xtics 1\n",
-      gnuplot_quoted(title), lowest - 0.2, highest + 0.2);
+      gnuplot_quoted(title), lowest - margin, highest + margin);
   std::filesystem::create_directories(directory);
   write_text_file((std::filesystem::path(directory) / (stem + ".dat")).string(), data);
   write_text_file((std::filesystem::path(directory) / (stem + ".gp")).string(), script(stem, settings, plot));
@@ -149,20 +198,57 @@ std::vector<MethodTrajectory> trajectories_of(std::span<const EstimateFile> file
   return trajectories;
 }
 
+std::vector<Eigen::Vector2d> covariance_ellipse(const Eigen::Vector2d& mean, const Eigen::Matrix2d& covariance,
+                                                int points, double chi_square) {
+  const Eigen::Matrix2d symmetric = 0.5 * (covariance + covariance.transpose());
+  Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> eigen;
+  eigen.computeDirect(symmetric);
+  // Eigen sorts the eigenvalues up: column 1 is the major axis. Rounding can leave a tiny negative.
+  const Eigen::Vector2d major = std::sqrt(chi_square * std::max(eigen.eigenvalues()(1), 0.0)) * eigen.eigenvectors().col(1);
+  const Eigen::Vector2d minor = std::sqrt(chi_square * std::max(eigen.eigenvalues()(0), 0.0)) * eigen.eigenvectors().col(0);
+  std::vector<Eigen::Vector2d> ellipse;
+  ellipse.reserve(static_cast<std::size_t>(std::max(points, 0)));
+  for (int j = 0; j < points; ++j) {
+    const double angle = 2.0 * std::numbers::pi * j / points;
+    ellipse.push_back(mean + std::cos(angle) * major + std::sin(angle) * minor);
+  }
+  return ellipse;
+}
+
+std::vector<std::size_t> ellipse_indices(std::size_t count) {
+  const std::size_t every = std::max<std::size_t>(1, count / 10);
+  std::vector<std::size_t> indices;
+  for (std::size_t k = 0; k < count; k += every) indices.push_back(k);
+  return indices;
+}
+
 void write_trajectories(std::span<const TruthPoint> truth, std::span<const MethodTrajectory> methods,
                         const std::string& directory, const std::string& stem, const std::string& title,
                         std::span<const Measurement> measured) {
-  std::filesystem::create_directories(directory);
+  namespace fs = std::filesystem;
+  fs::create_directories(directory);
+  const auto data_file = [&](const std::string& name) { return stem + "-" + name + ".dat"; };
+  // The plot's range: every path point and measurement (not the ellipses, which may be wide).
+  double x_low = std::numeric_limits<double>::infinity(), x_high = -x_low, y_low = x_low, y_high = -x_low;
+  const auto widen = [&](const Vector3d& point) {
+    x_low = std::min(x_low, point.x());
+    x_high = std::max(x_high, point.x());
+    y_low = std::min(y_low, point.y());
+    y_high = std::max(y_high, point.y());
+  };
   // One block per object (a blank line between blocks breaks the line), in time order.
   auto write_paths = [&](const std::string& name, std::map<std::string, std::vector<std::pair<double, Vector3d>>> paths) {
     std::string data = "# x y (m), one block per object: " + name + "\n";
     for (auto& [object, points] : paths) {
-      std::sort(points.begin(), points.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
+      std::stable_sort(points.begin(), points.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
       data += "# object " + object + "\n";
-      for (const auto& [time, position] : points) data += fmt::format("{:.4f} {:.4f}\n", position.x(), position.y());
+      for (const auto& [time, position] : points) {
+        data += fmt::format("{:.4f} {:.4f}\n", position.x(), position.y());
+        widen(position);
+      }
       data += "\n";
     }
-    write_text_file((std::filesystem::path(directory) / (stem + "-" + name + ".dat")).string(), data);
+    write_text_file((fs::path(directory) / data_file(name)).string(), data);
   };
   std::map<std::string, std::vector<std::pair<double, Vector3d>>> truth_paths;
   for (const TruthPoint& point : truth) truth_paths[point.object].emplace_back(point.time, point.position);
@@ -170,23 +256,64 @@ void write_trajectories(std::span<const TruthPoint> truth, std::span<const Metho
   std::string plot = "plot ";
   if (!measured.empty()) {
     std::string data = "# x y (m) of the measurements drawn\n";
-    for (const Measurement& row : measured) data += fmt::format("{:.4f} {:.4f}\n", row.position.mean().x(), row.position.mean().y());
-    write_text_file((std::filesystem::path(directory) / (stem + "-measured.dat")).string(), data);
-    plot += fmt::format("'{}-measured.dat' with points pt 7 ps 0.3 lc rgb '#b0b0b0' title 'measured', \\\n     ", stem);
+    for (const Measurement& row : measured) {
+      data += fmt::format("{:.4f} {:.4f}\n", row.position.mean().x(), row.position.mean().y());
+      widen(row.position.mean());
+    }
+    write_text_file((fs::path(directory) / data_file("measured")).string(), data);
+    plot += fmt::format("{} with points pt 7 ps 0.3 lc rgb '#b0b0b0' title 'measured', \\\n     ",
+                        gnuplot_quoted(data_file("measured")));
   }
-  plot += fmt::format("'{}-truth.dat' with lines lw 4 lc rgb '#303030' title 'truth'", stem);
+  // Each method's 95 % ellipses, under the paths: one block of kEllipsePoints + 1 rows (the first
+  // point again closes the line) per ellipse, a blank line after each.
+  std::string paths_plot;
   for (const MethodTrajectory& method : methods) {
+    std::map<std::string, std::vector<const Estimate*>> tracks;
+    for (const Estimate& estimate : method.estimates) tracks[estimate.object].push_back(&estimate);
     std::map<std::string, std::vector<std::pair<double, Vector3d>>> paths;
-    for (const Estimate& estimate : method.estimates) paths[estimate.object].emplace_back(estimate.time, estimate.position.mean());
+    std::string ellipses = fmt::format(
+        "# x y (m): the 95 % region (chi-square 2 dof, {:.3f}) of the x-y covariance of every k-th estimate of {},\n"
+        "# one block of {} points per ellipse (the first repeated at the end); k = max(1, floor(track length / 10))\n",
+        kChiSquare2Dof95, method.method, kEllipsePoints + 1);
+    for (auto& [object, track] : tracks) {
+      std::stable_sort(track.begin(), track.end(), [](const Estimate* a, const Estimate* b) { return a->time < b->time; });
+      for (const Estimate* estimate : track) paths[object].emplace_back(estimate->time, estimate->position.mean());
+      for (const std::size_t k : ellipse_indices(track.size())) {
+        const Estimate& estimate = *track[k];
+        const std::vector<Eigen::Vector2d> ellipse =
+            covariance_ellipse(estimate.position.mean().head<2>(), estimate.position.covariance().topLeftCorner<2, 2>());
+        ellipses += fmt::format("# object {} t {}\n", object, estimate.time);
+        for (std::size_t j = 0; j <= ellipse.size(); ++j) {
+          const Eigen::Vector2d& point = ellipse[j % ellipse.size()];
+          ellipses += fmt::format("{:.4f} {:.4f}\n", point.x(), point.y());
+        }
+        ellipses += "\n";
+      }
+    }
     write_paths(method.method, paths);
-    plot += fmt::format(", \\\n     '{}-{}.dat' with linespoints lw {} pt 7 ps 0.5 lc rgb '{}' title {}", stem,
-                        method.method, method.method == "ours" ? 2.5 : 1.5, colour_of(method.method),
-                        gnuplot_quoted(method.method));
+    write_text_file((fs::path(directory) / data_file("ellipses-" + method.method)).string(), ellipses);
+    const MethodStyle style = style_of(method.method);
+    plot += fmt::format("{} with lines lw 0.8 dt 1 lc rgb '{}' notitle, \\\n     ",
+                        gnuplot_quoted(data_file("ellipses-" + method.method)), style.colour);
+    paths_plot += fmt::format(", \\\n     {} with linespoints lw {} dt {} pt {} ps 0.6 lc rgb '{}' title {} noenhanced",
+                              gnuplot_quoted(data_file(method.method)), method.method == "ours" ? 2.5 : 1.5,
+                              style.dash_type, style.point_type, style.colour, gnuplot_quoted(method.method));
+  }
+  plot += fmt::format("{} with lines lw 4 lc rgb '#303030' title 'truth'", gnuplot_quoted(data_file("truth")));
+  plot += paths_plot;
+  std::string range;
+  if (std::isfinite(x_low)) {
+    const double margin = std::max(0.5, 0.05 * std::max(x_high - x_low, y_high - y_low));
+    range = fmt::format("set xrange [{:.4f}:{:.4f}]\nset yrange [{:.4f}:{:.4f}]\n", x_low - margin, x_high + margin,
+                        y_low - margin, y_high + margin);
   }
   const std::string settings = fmt::format(
-      "set title {}\nset xlabel 'x (m)'\nset ylabel 'y (m)'\nset size ratio -1\nset grid\nset key outside right\n",
-      gnuplot_quoted(title));
-  write_text_file((std::filesystem::path(directory) / (stem + ".gp")).string(), script(stem, settings, plot));
+      "set title {} noenhanced\nset xlabel 'x (m)'\nset ylabel 'y (m)'\nset size ratio -1\nset grid\n"
+      "set key outside right\n"
+      "# The range holds the paths and measurements; an ellipse wider than that is clipped.\n{}",
+      gnuplot_double_quoted(title + (methods.empty() ? "" : "\nellipses: 95% region of the estimate's covariance")),
+      range);
+  write_text_file((fs::path(directory) / (stem + ".gp")).string(), script(stem, settings, plot));
 }
 
 }  // namespace stgf::cli
