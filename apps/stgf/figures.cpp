@@ -96,6 +96,15 @@ MethodStyle style_of(const std::string& method) {
   return {fallback[hash % fallback.size()], 8, 1 + static_cast<int>(hash % 5)};
 }
 
+// The order to draw `methods` in: the solid lines first, then the dashed ones (each group in the
+// given order), so a dashed line drawn over a solid one it coincides with leaves both in sight.
+std::vector<std::size_t> drawing_order(const std::vector<std::string>& methods) {
+  std::vector<std::size_t> order(methods.size());
+  for (std::size_t m = 0; m < order.size(); ++m) order[m] = m;
+  std::stable_partition(order.begin(), order.end(), [&](std::size_t m) { return style_of(methods[m]).dash_type == 1; });
+  return order;
+}
+
 }  // namespace
 
 bool gnuplot_available() { return std::system("gnuplot --version >/dev/null 2>&1") == 0; }
@@ -131,11 +140,14 @@ void write_views_curve(const Evaluation& evaluation, const std::string& director
   const double spread = 0.06;
   std::string plot = fmt::format(
       "# Each method's points are shifted sideways by a multiple of {} views (the .dat keeps the whole\n"
-      "# numbers) so that methods with equal DE, like wls and mmt, do not hide one another.\nplot ",
+      "# numbers) so that methods with equal DE, like wls and mmt, do not hide one another; dashed lines\n"
+      "# are drawn after solid ones.\nplot ",
       spread);
-  for (std::size_t m = 0; m < method_count; ++m) {
-    if (m > 0) plot += ", \\\n     ";
-    const std::string& method = evaluation.methods[m].method;
+  std::vector<std::string> names;
+  for (const MethodScore& method : evaluation.methods) names.push_back(method.method);
+  for (const std::size_t m : drawing_order(names)) {
+    if (!plot.ends_with("plot ")) plot += ", \\\n     ";
+    const std::string& method = names[m];
     const MethodStyle style = style_of(method);
     const double offset = (static_cast<double>(m) - 0.5 * static_cast<double>(method_count - 1)) * spread;
     plot += fmt::format(
@@ -226,9 +238,14 @@ void write_trajectories(std::span<const TruthPoint> truth, std::span<const Metho
                         const std::string& directory, const std::string& stem, const std::string& title,
                         std::span<const Measurement> measured) {
   namespace fs = std::filesystem;
+  using Path = std::vector<std::pair<double, Vector3d>>;  // (time, position) in time order
   fs::create_directories(directory);
   const auto data_file = [&](const std::string& name) { return stem + "-" + name + ".dat"; };
-  // The plot's range: every path point and measurement (not the ellipses, which may be wide).
+  const auto in_time_order = [](auto& rows, auto time_of) {
+    std::stable_sort(rows.begin(), rows.end(), [&](const auto& a, const auto& b) { return time_of(a) < time_of(b); });
+  };
+
+  // The plot's range holds every path point and measurement, not the ellipses, which can be wide.
   double x_low = std::numeric_limits<double>::infinity(), x_high = -x_low, y_low = x_low, y_high = -x_low;
   const auto widen = [&](const Vector3d& point) {
     x_low = std::min(x_low, point.x());
@@ -236,52 +253,70 @@ void write_trajectories(std::span<const TruthPoint> truth, std::span<const Metho
     y_low = std::min(y_low, point.y());
     y_high = std::max(y_high, point.y());
   };
-  // One block per object (a blank line between blocks breaks the line), in time order.
-  auto write_paths = [&](const std::string& name, std::map<std::string, std::vector<std::pair<double, Vector3d>>> paths) {
+  std::map<std::string, Path> truth_paths;
+  for (const TruthPoint& point : truth) {
+    truth_paths[point.object].emplace_back(point.time, point.position);
+    widen(point.position);
+  }
+  for (const Measurement& row : measured) widen(row.position.mean());
+  // Each method's tracks, one per object, in time order.
+  std::vector<std::map<std::string, std::vector<const Estimate*>>> tracks(methods.size());
+  for (std::size_t m = 0; m < methods.size(); ++m) {
+    for (const Estimate& estimate : methods[m].estimates) {
+      tracks[m][estimate.object].push_back(&estimate);
+      widen(estimate.position.mean());
+    }
+    for (auto& [object, track] : tracks[m]) in_time_order(track, [](const Estimate* row) { return row->time; });
+  }
+  const bool anything = std::isfinite(x_low);
+  const double span = anything ? std::max(x_high - x_low, y_high - y_low) : 0.0;
+  const double margin = std::max(0.5, 0.05 * span);
+
+  // One block per object (a blank line between blocks breaks the line).
+  auto write_paths = [&](const std::string& name, std::map<std::string, Path> paths) {
     std::string data = "# x y (m), one block per object: " + name + "\n";
     for (auto& [object, points] : paths) {
-      std::stable_sort(points.begin(), points.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
+      in_time_order(points, [](const auto& point) { return point.first; });
       data += "# object " + object + "\n";
-      for (const auto& [time, position] : points) {
-        data += fmt::format("{:.4f} {:.4f}\n", position.x(), position.y());
-        widen(position);
-      }
+      for (const auto& [time, position] : points) data += fmt::format("{:.4f} {:.4f}\n", position.x(), position.y());
       data += "\n";
     }
     write_text_file((fs::path(directory) / data_file(name)).string(), data);
   };
-  std::map<std::string, std::vector<std::pair<double, Vector3d>>> truth_paths;
-  for (const TruthPoint& point : truth) truth_paths[point.object].emplace_back(point.time, point.position);
   write_paths("truth", truth_paths);
   std::string plot = "plot ";
   if (!measured.empty()) {
     std::string data = "# x y (m) of the measurements drawn\n";
     for (const Measurement& row : measured) {
       data += fmt::format("{:.4f} {:.4f}\n", row.position.mean().x(), row.position.mean().y());
-      widen(row.position.mean());
     }
     write_text_file((fs::path(directory) / data_file("measured")).string(), data);
     plot += fmt::format("{} with points pt 7 ps 0.3 lc rgb '#b0b0b0' title 'measured', \\\n     ",
                         gnuplot_quoted(data_file("measured")));
   }
   // Each method's 95 % ellipses, under the paths: one block of kEllipsePoints + 1 rows (the first
-  // point again closes the line) per ellipse, a blank line after each.
-  std::string paths_plot;
-  for (const MethodTrajectory& method : methods) {
-    std::map<std::string, std::vector<const Estimate*>> tracks;
-    for (const Estimate& estimate : method.estimates) tracks[estimate.object].push_back(&estimate);
-    std::map<std::string, std::vector<std::pair<double, Vector3d>>> paths;
-    std::string ellipses = fmt::format(
-        "# x y (m): the 95 % region (chi-square 2 dof, {:.3f}) of the x-y covariance of every k-th estimate of {},\n"
-        "# one block of {} points per ellipse (the first repeated at the end); k = max(1, floor(track length / 10))\n",
-        kChiSquare2Dof95, method.method, kEllipsePoints + 1);
-    for (auto& [object, track] : tracks) {
-      std::stable_sort(track.begin(), track.end(), [](const Estimate* a, const Estimate* b) { return a->time < b->time; });
+  // point again closes the line) per ellipse, a blank line after each. An ellipse whose major
+  // semi-axis is wider than half the plot (a track's uninformed start, say) would only cross the
+  // plot as stray arcs: it is left out, and named in the file.
+  const double widest = 0.5 * (span + 2.0 * margin);
+  std::vector<std::string> paths_plot(methods.size());  // each method's path, drawn after every ellipse
+  for (std::size_t m = 0; m < methods.size(); ++m) {
+    const std::string& method = methods[m].method;
+    std::map<std::string, Path> paths;
+    std::string ellipses;
+    std::string left_out;
+    for (const auto& [object, track] : tracks[m]) {
       for (const Estimate* estimate : track) paths[object].emplace_back(estimate->time, estimate->position.mean());
       for (const std::size_t k : ellipse_indices(track.size())) {
         const Estimate& estimate = *track[k];
+        const Eigen::Vector2d mean = estimate.position.mean().head<2>();
         const std::vector<Eigen::Vector2d> ellipse =
-            covariance_ellipse(estimate.position.mean().head<2>(), estimate.position.covariance().topLeftCorner<2, 2>());
+            covariance_ellipse(mean, estimate.position.covariance().topLeftCorner<2, 2>());
+        const double major = (ellipse.front() - mean).norm();  // the first point ends the major axis
+        if (major > widest) {
+          left_out += fmt::format("#   object {} t {} (major semi-axis {:.2f} m)\n", object, estimate.time, major);
+          continue;
+        }
         ellipses += fmt::format("# object {} t {}\n", object, estimate.time);
         for (std::size_t j = 0; j <= ellipse.size(); ++j) {
           const Eigen::Vector2d& point = ellipse[j % ellipse.size()];
@@ -290,27 +325,34 @@ void write_trajectories(std::span<const TruthPoint> truth, std::span<const Metho
         ellipses += "\n";
       }
     }
-    write_paths(method.method, paths);
-    write_text_file((fs::path(directory) / data_file("ellipses-" + method.method)).string(), ellipses);
-    const MethodStyle style = style_of(method.method);
+    write_paths(method, paths);
+    std::string header = fmt::format(
+        "# x y (m): the 95 % region (chi-square 2 dof, {:.3f}) of the x-y covariance of every k-th estimate of {},\n"
+        "# k = max(1, floor(track length / 10)); one block of {} points per ellipse (the first repeated at the end)\n",
+        kChiSquare2Dof95, method, kEllipsePoints + 1);
+    if (!left_out.empty()) {
+      header += fmt::format("# left out, wider than half the plot ({:.2f} m):\n", widest) + left_out;
+    }
+    write_text_file((fs::path(directory) / data_file("ellipses-" + method)).string(), header + ellipses);
+    const MethodStyle style = style_of(method);
     plot += fmt::format("{} with lines lw 0.8 dt 1 lc rgb '{}' notitle, \\\n     ",
-                        gnuplot_quoted(data_file("ellipses-" + method.method)), style.colour);
-    paths_plot += fmt::format(", \\\n     {} with linespoints lw {} dt {} pt {} ps 0.6 lc rgb '{}' title {} noenhanced",
-                              gnuplot_quoted(data_file(method.method)), method.method == "ours" ? 2.5 : 1.5,
-                              style.dash_type, style.point_type, style.colour, gnuplot_quoted(method.method));
+                        gnuplot_quoted(data_file("ellipses-" + method)), style.colour);
+    paths_plot[m] = fmt::format(", \\\n     {} with linespoints lw {} dt {} pt {} ps 0.6 lc rgb '{}' title {} noenhanced",
+                                gnuplot_quoted(data_file(method)), method == "ours" ? 2.5 : 1.5, style.dash_type,
+                                style.point_type, style.colour, gnuplot_quoted(method));
   }
   plot += fmt::format("{} with lines lw 4 lc rgb '#303030' title 'truth'", gnuplot_quoted(data_file("truth")));
-  plot += paths_plot;
-  std::string range;
-  if (std::isfinite(x_low)) {
-    const double margin = std::max(0.5, 0.05 * std::max(x_high - x_low, y_high - y_low));
-    range = fmt::format("set xrange [{:.4f}:{:.4f}]\nset yrange [{:.4f}:{:.4f}]\n", x_low - margin, x_high + margin,
-                        y_low - margin, y_high + margin);
-  }
+  std::vector<std::string> names;
+  for (const MethodTrajectory& method : methods) names.push_back(method.method);
+  for (const std::size_t m : drawing_order(names)) plot += paths_plot[m];
+  const std::string range =
+      anything ? fmt::format("set xrange [{:.4f}:{:.4f}]\nset yrange [{:.4f}:{:.4f}]\n", x_low - margin,
+                             x_high + margin, y_low - margin, y_high + margin)
+               : std::string();
   const std::string settings = fmt::format(
       "set title {} noenhanced\nset xlabel 'x (m)'\nset ylabel 'y (m)'\nset size ratio -1\nset grid\n"
       "set key outside right\n"
-      "# The range holds the paths and measurements; an ellipse wider than that is clipped.\n{}",
+      "# The range holds the paths and measurements; an ellipse reaching past it is clipped.\n{}",
       gnuplot_double_quoted(title + (methods.empty() ? "" : "\nellipses: 95% region of the estimate's covariance")),
       range);
   write_text_file((fs::path(directory) / (stem + ".gp")).string(), script(stem, settings, plot));

@@ -4,17 +4,19 @@
 // gnuplot script that draws it (STEM.gp, re-runnable by hand: `cd DIR && gnuplot STEM.gp`), and
 // STEM.svg and STEM.png.
 //   views curve   DE against the number of views that saw the object (paper Fig. 6), a line per
-//                 method, log scale. Each method has its own colour, point type and dash pattern,
-//                 and its points are shifted sideways by a few hundredths of a view (the data keep
-//                 the whole numbers), so methods whose numbers coincide (wls and mmt often do) all
-//                 show;
+//                 method, log scale. Each method's points are shifted sideways by a few hundredths
+//                 of a view (the data keep the whole numbers), so methods whose numbers coincide
+//                 (wls and mmt often do) all show;
 //   trajectories  one scene seen from above (x, y): the true paths against each method's estimates
 //                 held by one view (paper Figs. 4–5), and around every k-th estimate of each track
 //                 (k so that a track has 10–19 ellipses, see ellipse_indices) the 95 % region of the x–y
 //                 marginal of the estimate's covariance, a thin closed line in the method's colour,
-//                 from STEM-ellipses-METHOD.dat (one block per ellipse). The plot's range is set by
-//                 the paths and measurements, so a wide early ellipse is clipped rather than
-//                 shrinking the paths.
+//                 from STEM-ellipses-METHOD.dat (one block per ellipse); the title says what they
+//                 are. The plot's range is set by the paths and measurements, so an ellipse reaching
+//                 past it is clipped, and one whose major semi-axis is wider than half the plot (a
+//                 track's uninformed start) is left out and named in the comments of its file.
+// In both, a method has the same colour, point type and dash pattern (every method stgf runs has
+// its own; another name gets a fallback), and dashed lines are drawn after solid ones.
 
 #include <span>
 #include <string>
