@@ -4,10 +4,15 @@
 
 #include <sys/wait.h>
 
+#include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
+#include <string>
+#include <utility>
+#include <vector>
 
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
@@ -32,6 +37,46 @@ std::string slurp(const fs::path& path) {
   std::ostringstream text;
   text << file.rdbuf();
   return text.str();
+}
+
+// The blocks of a gnuplot data file (blank lines between them), each a list of (x, y) rows; '#'
+// lines are left out.
+std::vector<std::vector<std::pair<double, double>>> data_blocks(const std::string& text) {
+  std::vector<std::vector<std::pair<double, double>>> blocks(1);
+  std::istringstream lines(text);
+  for (std::string line; std::getline(lines, line);) {
+    if (line.empty()) {
+      if (!blocks.back().empty()) blocks.emplace_back();
+    } else if (line.front() != '#') {
+      std::istringstream fields(line);
+      double x = 0.0, y = 0.0;
+      fields >> x >> y;
+      blocks.back().emplace_back(x, y);
+    }
+  }
+  if (blocks.back().empty()) blocks.pop_back();
+  return blocks;
+}
+
+// The line of a gnuplot script that draws `title`, from its " with " up to " title": how it is drawn.
+std::string style_in(const std::string& script, const std::string& title) {
+  std::istringstream lines(script);
+  for (std::string line; std::getline(lines, line);) {
+    const std::size_t end = line.find(" title '" + title + "'");
+    if (end == std::string::npos) continue;
+    const std::size_t with = line.find(" with ");
+    return with == std::string::npos || with > end ? line.substr(0, end) : line.substr(with, end - with);
+  }
+  return "(no line draws " + title + ")";
+}
+
+// What comes before " with " in that line: the file and the columns (with any offset).
+std::string columns_in(const std::string& script, const std::string& title) {
+  std::istringstream lines(script);
+  for (std::string line; std::getline(lines, line);) {
+    if (line.find(" title '" + title + "'") != std::string::npos) return line.substr(0, line.find(" with "));
+  }
+  return "(no line draws " + title + ")";
 }
 
 class Cli : public ::testing::Test {
@@ -296,11 +341,12 @@ TEST_F(Cli, DatasetClockOptions) {
 // with exit status 2 before anything is drawn.
 TEST_F(Cli, PlotDrawsAnyEstimates) {
   if (std::system("gnuplot --version >/dev/null 2>&1") != 0) GTEST_SKIP() << "gnuplot is not installed";
-  write("m.csv", kHeader + "s,0,v1,o1,0,0,0,1,0,0,1,0,1\n"
-                           "s,0,v2,o1,1,0,0,1,0,0,1,0,1\n"
-                           "s,0.1,v1,o1,0.1,0,0,1,0,0,1,0,1\n"
-                           "s,0,v1,o2,3,0,0,1,0,0,1,0,1\n"
-                           "s,0.1,v1,o2,3,1,0,1,0,0,1,0,1\n");
+  // σ ≈ 0.3 m: the measurements' covariance ellipses fit in the plot (wider ones are left out).
+  write("m.csv", kHeader + "s,0,v1,o1,0,0,0,0.1,0,0,0.1,0,0.1\n"
+                           "s,0,v2,o1,1,0,0,0.1,0,0,0.1,0,0.1\n"
+                           "s,0.1,v1,o1,0.1,0,0,0.1,0,0,0.1,0,0.1\n"
+                           "s,0,v1,o2,3,0,0,0.1,0,0,0.1,0,0.1\n"
+                           "s,0.1,v1,o2,3.2,1,0,0.1,0,0,0.1,0,0.1\n");
   write("t.csv", "scene,t,object,x,y,z\ns,0,o1,0.5,0,0\ns,0.1,o1,0.1,0,0\ns,0,o2,3,0,0\ns,0.1,o2,3,1,0\n");
   for (const char* method : {"wls", "mmt"}) {
     ASSERT_EQ(stgf(std::string("run --method ") + method + " --measurements m.csv --out " + method + ".csv").status, 0);
@@ -329,6 +375,87 @@ TEST_F(Cli, PlotDrawsAnyEstimates) {
   for (const auto& entry : fs::directory_iterator(directory_ / "figures")) {
     EXPECT_THAT(entry.path().filename().string(), Not(StartsWith(".stgf-plot"))) << "left its staging folder";
   }
+  // Each method's covariance ellipses: one for each of v1's two estimates of its two objects, 36
+  // points and the first again to close it. wls's are the measurements' (σ ≈ 0.3 m); mmt starts a
+  // track uninformed (major semi-axis 7.7 m), wider than half this 3 m plot, so those are left out
+  // and named in the file.
+  for (const std::string method : {"wls", "mmt"}) {
+    const std::string text = slurp(directory_ / ("figures/stgf-trajectories-ellipses-" + method + ".dat"));
+    const auto ellipses = data_blocks(text);
+    std::size_t left_out = 0;
+    for (std::size_t at = text.find("#   object "); at != std::string::npos; at = text.find("#   object ", at + 1)) ++left_out;
+    EXPECT_EQ(ellipses.size() + left_out, 4u) << method;
+    EXPECT_EQ(left_out, method == "wls" ? 0u : 2u) << method;
+    for (const auto& ellipse : ellipses) {
+      ASSERT_EQ(ellipse.size(), 37u) << method;
+      EXPECT_EQ(ellipse.front(), ellipse.back()) << method;
+    }
+  }
+  const std::string trajectories = slurp(directory_ / "figures/stgf-trajectories.gp");
+  EXPECT_THAT(trajectories, HasSubstr("'stgf-trajectories-ellipses-wls.dat' with lines"));
+  EXPECT_THAT(trajectories, HasSubstr("ellipses: 95% region of the estimate's covariance"));
+  // wls and mmt give the same numbers here; each still shows: its own point type, dash pattern and
+  // sideways offset (and wls drawn dashed).
+  const std::string views = slurp(directory_ / "figures/stgf-views.gp");
+  EXPECT_NE(style_in(views, "wls"), style_in(views, "mmt"));
+  EXPECT_THAT(style_in(views, "wls"), HasSubstr("dt 2"));
+  EXPECT_NE(columns_in(views, "wls"), columns_in(views, "mmt"));
+  EXPECT_NE(style_in(trajectories, "wls"), style_in(trajectories, "mmt"));
+}
+
+// The 95 % covariance ellipse checked by hand: diag(4, 1) at (0, 0) has semi-axes √(5.991·4) along
+// x and √5.991 along y; a tilted covariance's points all lie at squared Mahalanobis distance 5.991;
+// a track of 25 estimates gets an ellipse on every 2nd (13), one of 5 on each (5); an ellipse wider
+// than half the plot is left out and named in the file.
+TEST_F(Cli, PlotEllipsesAreTheCovariance95PercentRegion) {
+  if (std::system("gnuplot --version >/dev/null 2>&1") != 0) GTEST_SKIP() << "gnuplot is not installed";
+  std::string estimates = "scene,t,view,object,x,y,z,cov_xx,cov_xy,cov_xz,cov_yy,cov_yz,cov_zz,method\n"
+                          "s,0,v1,o1,0,0,0,4,0,0,1,0,1,hand\n"
+                          "s,0,v1,o2,10,0,0,2,1,0,2,0,1,hand\n"
+                          "s,0,v1,o5,0,0,0,100,0,0,100,0,1,hand\n";
+  std::string truth = "scene,t,object,x,y,z\ns,0,o1,0,0,0\ns,0,o2,10,0,0\ns,0,o5,0,0,0\n";
+  for (int k = 0; k < 25; ++k) {
+    estimates += "s," + std::to_string(0.1 * k) + ",v1,o3," + std::to_string(20 + 0.1 * k) + ",0,0,0.01,0,0,0.01,0,1,hand\n";
+    truth += "s," + std::to_string(0.1 * k) + ",o3," + std::to_string(20 + 0.1 * k) + ",0,0\n";
+  }
+  for (int k = 0; k < 5; ++k) {
+    estimates += "s," + std::to_string(0.1 * k) + ",v1,o4,0," + std::to_string(5 + 0.1 * k) + ",0,0.01,0,0,0.01,0,1,hand\n";
+    truth += "s," + std::to_string(0.1 * k) + ",o4,0," + std::to_string(5 + 0.1 * k) + ",0\n";
+  }
+  write("e.csv", estimates);
+  write("t.csv", truth);
+  const Result drawn = stgf("plot --truth t.csv --estimates e.csv --out figures");
+  ASSERT_EQ(drawn.status, 0) << drawn.err;
+  const std::string text = slurp(directory_ / "figures/stgf-trajectories-ellipses-hand.dat");
+  const auto ellipses = data_blocks(text);
+  ASSERT_EQ(ellipses.size(), 1u + 1u + 13u + 5u);
+  for (const auto& ellipse : ellipses) ASSERT_EQ(ellipse.size(), 37u);  // 36 points, the first again
+
+  const double chi_square = 5.991;  // 0.95 quantile, 2 degrees of freedom (5.99146)
+  double x_most = 0.0, y_most = 0.0;
+  for (const auto& [x, y] : ellipses[0]) {
+    x_most = std::max(x_most, std::abs(x));
+    y_most = std::max(y_most, std::abs(y));
+    EXPECT_NEAR(x * x / (chi_square * 4.0) + y * y / chi_square, 1.0, 1e-3) << x << " " << y;
+  }
+  EXPECT_NEAR(x_most, std::sqrt(chi_square * 4.0), 2e-3);
+  EXPECT_NEAR(y_most, std::sqrt(chi_square * 1.0), 2e-3);
+  // [[2, 1], [1, 2]] at (10, 0): its inverse is [[2, −1], [−1, 2]] / 3.
+  for (const auto& [x, y] : ellipses[1]) {
+    const double dx = x - 10.0;
+    EXPECT_NEAR((2.0 * dx * dx - 2.0 * dx * y + 2.0 * y * y) / 3.0, chi_square, 5e-3) << x << " " << y;
+  }
+  std::size_t on_o3 = 0, on_o4 = 0;
+  std::istringstream lines(text);
+  for (std::string line; std::getline(lines, line);) {
+    on_o3 += line.starts_with("# object o3 ");
+    on_o4 += line.starts_with("# object o4 ");
+  }
+  EXPECT_EQ(on_o3, 13u);
+  EXPECT_EQ(on_o4, 5u);
+  // o5's major semi-axis √(5.991·100) ≈ 24.5 m is wider than half the 22.4 m (+ margins) plot.
+  EXPECT_THAT(text, HasSubstr("#   object o5 t 0 (major semi-axis 24.48 m)"));
+  EXPECT_TRUE(exists("figures/stgf-trajectories.png"));
 }
 
 // The learned methods end to end on a tiny synthetic benchmark: train Φ on fused and on raw
