@@ -3,6 +3,7 @@
 // given on the command line), exit status 2 and no output file; good input gives exit 0 and files.
 
 #include <sys/wait.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <cmath>
@@ -82,8 +83,10 @@ std::string columns_in(const std::string& script, const std::string& title) {
 class Cli : public ::testing::Test {
  protected:
   void SetUp() override {
+    // The process id keeps two test runs on one machine out of each other's way.
     directory_ = fs::temp_directory_path() /
-                 ("stgf_cli_" + std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()));
+                 ("stgf_cli_" + std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()) + "_" +
+                  std::to_string(::getpid()));
     fs::remove_all(directory_);
     fs::create_directories(directory_);
   }
