@@ -31,6 +31,11 @@ struct RunOptions {
 
 void run(const RunOptions& options) {
   refuse_output_over_input("--out", options.out, {options.measurements, options.config, options.model});
+  if (!is_learned_method(options.method) && !options.model.empty()) {
+    // Not ignored silently: the user may believe the model is in use.
+    throw std::invalid_argument("--model is for the learned methods (sttp, ours-l, ours); --method " + options.method +
+                                " uses no model");
+  }
   const auto start = std::chrono::steady_clock::now();
   const MethodConfig config = options.config.empty() ? MethodConfig{} : read_method_config(options.config);
   // Before anything is read: in `stgf`, a learned method hands the command line over to stgf-learned.

@@ -198,6 +198,15 @@ TEST_F(Cli, LearnedCommandsAreHandedOverWithTheirOwnHelp) {
   EXPECT_THAT(missing.err, HasSubstr("--benchmark is required"));
 }
 
+TEST_F(Cli, ModelForAModelFreeMethodIsAUsageError) {
+  write("m.csv", kHeader + kGoodRows);
+  write("model.pt", "not read");
+  const Result result = stgf("run --method wls --measurements m.csv --out e.csv --model model.pt");
+  EXPECT_EQ(result.status, 2);
+  EXPECT_THAT(result.err, HasSubstr("--model is for the learned methods (sttp, ours-l, ours); --method wls uses no model"));
+  EXPECT_FALSE(exists("e.csv"));
+}
+
 TEST_F(Cli, UsageErrorsExitWithTwo) {
   EXPECT_EQ(stgf("").status, 2);
   EXPECT_EQ(stgf("run --method nope --measurements m.csv --out e.csv").status, 2);
