@@ -1,8 +1,24 @@
 #!/usr/bin/env bash
 # SPDX-License-Identifier: Apache-2.0
-# Installs what is missing, builds, and runs the whole test suite through ctest.
+# Installs what is missing, builds, and runs the whole test suite through ctest. Then:
+#   - the learned model's tests once more with one OpenMP thread and OpenBLAS on its Haswell kernels
+#     (results must not depend on the thread count or the BLAS kernel choice);
+#   - the core and the methods built and tested without LibTorch (build-core/, -DSTGF_WITH_LIBTORCH=OFF).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 scripts/install-deps.sh
 scripts/build.sh
 ctest --test-dir build --output-on-failure --parallel "$(nproc)" "$@"
+
+echo "== the learned model's tests with OMP_NUM_THREADS=1 OPENBLAS_CORETYPE=Haswell"
+OMP_NUM_THREADS=1 OPENBLAS_CORETYPE=Haswell build/tests/test_learn --gtest_brief=1
+
+echo "== the core and the methods without LibTorch (build-core/)"
+if [ ! -f build-core/CMakeCache.txt ]; then
+  cmake -S . -B build-core -G Ninja -DCMAKE_BUILD_TYPE=Release -DSTGF_WITH_LIBTORCH=OFF -DSTGF_BUILD_PYTHON=OFF \
+    -DSTGF_BUILD_BENCHMARKS=OFF >/dev/null
+fi
+cmake --build build-core --parallel "$(nproc)" --target test_core test_methods
+if ldd build-core/tests/test_core build-core/tests/test_methods | grep -q libtorch; then echo "build-core links LibTorch" >&2; exit 1; fi
+build-core/tests/test_core --gtest_brief=1
+build-core/tests/test_methods --gtest_brief=1

@@ -6,6 +6,9 @@
 #include <fstream>
 #include <sstream>
 
+#include <fmt/format.h>
+
+#include "stgf/io/input_bounds.hpp"
 #include "stgf/io/input_error.hpp"
 
 namespace stgf {
@@ -127,38 +130,70 @@ int CsvReader::require_column(std::string_view name) const {
 
 const std::string& CsvReader::text(const Row& row, int column) const {
   const std::string& field = row.fields[static_cast<std::size_t>(column)];
-  if (field.empty()) fail(row, "column '" + header_[static_cast<std::size_t>(column)] + "' is empty");
+  if (field.empty()) fail(row, "column " + quoted_excerpt(header_[static_cast<std::size_t>(column)]) + " is empty");
   return field;
 }
 
 double CsvReader::number(const Row& row, int column) const {
   const std::string& field = row.fields[static_cast<std::size_t>(column)];
   const std::string& name = header_[static_cast<std::size_t>(column)];
-  if (field.empty()) fail(row, "column '" + name + "' is empty");
+  if (field.empty()) fail(row, "column " + quoted_excerpt(name) + " is empty");
   const char* begin = field.data();
   if (*begin == '+') ++begin;  // from_chars does not take a leading plus
   double value = 0.0;
   const auto [end, error] = std::from_chars(begin, field.data() + field.size(), value);
-  if (error == std::errc::result_out_of_range) fail(row, "column '" + name + "': '" + field + "' is out of range");
-  if (error != std::errc() || end != field.data() + field.size()) {
-    fail(row, "column '" + name + "': '" + field + "' is not a number");
+  const std::string where = "column " + quoted_excerpt(name) + ": " + quoted_excerpt(field);
+  if (error == std::errc::result_out_of_range) fail(row, where + " is out of range");
+  if (error != std::errc() || end != field.data() + field.size()) fail(row, where + " is not a number");
+  if (!std::isfinite(value)) fail(row, where + " is not finite");
+  return value;
+}
+
+double CsvReader::bounded_number(const Row& row, int column, double max_abs, const char* what) const {
+  const double value = number(row, column);
+  if (std::abs(value) > max_abs) {
+    fail(row, "column " + quoted_excerpt(header_[static_cast<std::size_t>(column)]) + ": " +
+                  quoted_excerpt(row.fields[static_cast<std::size_t>(column)]) + " is outside ±" +
+                  fmt::format("{:g}", max_abs) + " (stgf's bound on " + what + ")");
   }
-  if (!std::isfinite(value)) fail(row, "column '" + name + "': '" + field + "' is not finite");
   return value;
 }
 
 Eigen::Vector3d CsvReader::vector3(const Row& row, const int (&columns)[3]) const {
-  return {number(row, columns[0]), number(row, columns[1]), number(row, columns[2])};
+  const char* what = "coordinates (m)";
+  return {bounded_number(row, columns[0], kMaxAbsCoordinate, what),
+          bounded_number(row, columns[1], kMaxAbsCoordinate, what),
+          bounded_number(row, columns[2], kMaxAbsCoordinate, what)};
 }
+
+double CsvReader::time(const Row& row, int column) const { return bounded_number(row, column, kMaxAbsTime, "times (s)"); }
 
 Eigen::Matrix3d CsvReader::symmetric3(const Row& row, const int (&columns)[6]) const {
   const double xx = number(row, columns[0]), xy = number(row, columns[1]), xz = number(row, columns[2]);
   const double yy = number(row, columns[3]), yz = number(row, columns[4]), zz = number(row, columns[5]);
+  for (const int k : {0, 3, 5}) {
+    const double variance = number(row, columns[k]);
+    if (variance <= 0.0) {
+      fail(row, "covariance is not positive definite (column " +
+                    quoted_excerpt(header_[static_cast<std::size_t>(columns[k])]) + " is " +
+                    quoted_excerpt(row.fields[static_cast<std::size_t>(columns[k])]) + ")");
+    }
+    if (!(variance >= kMinVariance && variance <= kMaxVariance)) {
+      fail(row, "column " + quoted_excerpt(header_[static_cast<std::size_t>(columns[k])]) + ": " +
+                    quoted_excerpt(row.fields[static_cast<std::size_t>(columns[k])]) +
+                    " is outside [1e-12, 1e12] m² (stgf's bound on a variance)");
+    }
+  }
   Eigen::Matrix3d matrix;
   matrix << xx, xy, xz, xy, yy, yz, xz, yz, zz;
   return matrix;
 }
 
 void CsvReader::fail(const Row& row, const std::string& what) const { throw InputError(path_, row.line, what); }
+
+std::string quoted_excerpt(const std::string& text) {
+  if (text.size() <= kMaxQuotedField) return "'" + text + "'";
+  return "'" + text.substr(0, kMaxQuotedField - 20) + "…' (" + std::to_string(text.size()) + " characters)";
+}
 
 }  // namespace stgf

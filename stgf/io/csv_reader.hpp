@@ -46,7 +46,14 @@ class CsvReader {
   // A finite decimal number (InputError for non-numeric text, NaN or infinity).
   double number(const Row& row, int column) const;
   // The 3-vector in `columns` and the symmetric 3×3 matrix from the six columns xx, xy, xz, yy, yz, zz.
+  // A number with |value| ≤ max_abs; `what` names the bound in the message (input_bounds.hpp).
+  double bounded_number(const Row& row, int column, double max_abs, const char* what) const;
+  // A time (s) within kMaxAbsTime.
+  double time(const Row& row, int column) const;
+  // Three coordinates (m) within kMaxAbsCoordinate.
   Eigen::Vector3d vector3(const Row& row, const int (&columns)[3]) const;
+  // A symmetric matrix from its six upper entries, its diagonal positive and within
+  // [kMinVariance, kMaxVariance]; positive definiteness is checked by the caller (covariance_problem).
   Eigen::Matrix3d symmetric3(const Row& row, const int (&columns)[6]) const;
 
   [[noreturn]] void fail(const Row& row, const std::string& what) const;

@@ -19,7 +19,7 @@ EstimateFile read_rows(CsvReader reader) {
   std::vector<detail::RowIdentity> identities;
   CsvReader::Row row;
   while (reader.next(row)) {
-    Estimate estimate{reader.text(row, keys.scene), reader.number(row, keys.time), reader.text(row, keys.view),
+    Estimate estimate{reader.text(row, keys.scene), reader.time(row, keys.time), reader.text(row, keys.view),
                       reader.text(row, keys.object), detail::read_gaussian(reader, row, gaussian)};
     file.methods.push_back(reader.text(row, method));
     identities.push_back({file.methods.back() + '\n' + estimate.scene + '\n' + estimate.view + '\n' + estimate.object,

@@ -30,12 +30,12 @@ MeasurementFile read_rows(CsvReader reader) {
   std::vector<detail::RowIdentity> identities;
   CsvReader::Row row;
   while (reader.next(row)) {
-    Measurement measurement{reader.text(row, keys.scene), reader.number(row, keys.time),
+    Measurement measurement{reader.text(row, keys.scene), reader.time(row, keys.time),
                             reader.text(row, keys.view), reader.text(row, keys.object),
                             detail::read_gaussian(reader, row, gaussian), std::nullopt, std::nullopt};
     if (file.has_sensor_positions) measurement.sensor_position = reader.vector3(row, sensor);
     if (file.has_arrival) {
-      measurement.arrival = reader.number(row, arrival);
+      measurement.arrival = reader.time(row, arrival);
       if (*measurement.arrival < measurement.time - kArrivalTolerance) {
         reader.fail(row, fmt::format("arrival {} is before t {}: the message arrived before it was measured",
                                      *measurement.arrival, measurement.time));

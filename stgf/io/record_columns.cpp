@@ -4,6 +4,8 @@
 #include <algorithm>
 #include <charconv>
 #include <cmath>
+#include <stdexcept>
+#include <string>
 
 #include "stgf/core/records.hpp"
 #include "stgf/io/input_error.hpp"
@@ -80,12 +82,15 @@ std::string csv_field(const std::string& text) {
 void append_number(std::string& out, double value, int precision) {
   char buffer[64];
   const auto result = std::to_chars(buffer, buffer + sizeof buffer, value, std::chars_format::general, precision);
+  if (result.ec != std::errc()) throw std::invalid_argument("number cannot be written");
   out.append(buffer, result.ptr);
 }
 
 void append_time(std::string& out, double seconds) {
   char buffer[64];
   const auto result = std::to_chars(buffer, buffer + sizeof buffer, seconds, std::chars_format::fixed, 6);
+  // The readers bound times (input_bounds.hpp); a time from elsewhere that does not fit is a bug.
+  if (result.ec != std::errc()) throw std::invalid_argument("time " + std::to_string(seconds) + " s cannot be written");
   out.append(buffer, result.ptr);
 }
 

@@ -23,7 +23,7 @@ TruthFile read_rows(CsvReader reader) {
   std::vector<detail::RowIdentity> identities;
   CsvReader::Row row;
   while (reader.next(row)) {
-    TruthPoint point{reader.text(row, keys.scene), reader.number(row, keys.time), reader.text(row, keys.object),
+    TruthPoint point{reader.text(row, keys.scene), reader.time(row, keys.time), reader.text(row, keys.object),
                      reader.vector3(row, position)};
     identities.push_back({point.scene + '\n' + point.object, point.time, row.line, file.rows.size()});
     file.rows.push_back(std::move(point));

@@ -126,6 +126,8 @@ class Cli : public ::testing::Test {
   fs::path directory_;
 };
 
+constexpr bool kWithLibTorch = STGF_WITH_LIBTORCH;
+
 // Recorded by GoldenEndToEnd's first run (see there).
 constexpr double kGoldenOursDe = 0.194132;  // one track per object, offsets estimated jointly (was 0.189892 per view)
 constexpr double kGoldenWlsDe = 0.230529;
@@ -188,6 +190,7 @@ TEST_F(Cli, QuietAndVerbose) {
 }
 
 TEST_F(Cli, LearnedCommandsAreHandedOverWithTheirOwnHelp) {
+  if (!kWithLibTorch) GTEST_SKIP() << "built without LibTorch (-DSTGF_WITH_LIBTORCH=OFF)";
   // train's options live in stgf-learned; stgf hands `train --help` over whole.
   const Result result = stgf("train --help");
   EXPECT_EQ(result.status, 0);
@@ -196,6 +199,13 @@ TEST_F(Cli, LearnedCommandsAreHandedOverWithTheirOwnHelp) {
   const Result missing = stgf("train --epochs 1");
   EXPECT_EQ(missing.status, 2);
   EXPECT_THAT(missing.err, HasSubstr("--benchmark is required"));
+}
+
+TEST_F(Cli, WithoutLibTorchLearnedWorkIsAClearError) {
+  if (kWithLibTorch) GTEST_SKIP() << "built with LibTorch";
+  const Result result = stgf("train --benchmark b --out m.pt");
+  EXPECT_EQ(result.status, 1);
+  EXPECT_THAT(result.err, HasSubstr("stgf train needs the learned motion model, and this stgf was built without LibTorch"));
 }
 
 TEST_F(Cli, ModelForAModelFreeMethodIsAUsageError) {
@@ -473,6 +483,7 @@ TEST_F(Cli, PlotEllipsesAreTheCovariance95PercentRegion) {
 // The learned methods end to end on a tiny synthetic benchmark: train Φ on fused and on raw
 // histories, run ours-l and sttp, score them with the model-based methods.
 TEST_F(Cli, TrainThenRunLearnedMethods) {
+  if (!kWithLibTorch) GTEST_SKIP() << "built without LibTorch (-DSTGF_WITH_LIBTORCH=OFF)";
   ASSERT_EQ(stgf("dataset synthetic --out bench --seed 3 --scenes 2 --objects 3 --views 2 --steps 15").status, 0);
   const Result fused = stgf("train --benchmark bench --out fused.pt --input fused --epochs 2 --batch 8 --threads 1");
   ASSERT_EQ(fused.status, 0) << fused.err;
@@ -498,6 +509,7 @@ TEST_F(Cli, TrainThenRunLearnedMethods) {
 // Rows with an arrival column are fused in arrival order; one later than the lag window is left out
 // with a warning, or stops the run at its line with `late_measurements: stop`.
 TEST_F(Cli, LateRowsAreFusedInPlaceOrReportedAtTheirLine) {
+  if (!kWithLibTorch) GTEST_SKIP() << "built without LibTorch (-DSTGF_WITH_LIBTORCH=OFF)";
   ASSERT_EQ(stgf("dataset synthetic --out bench --seed 4 --scenes 1 --objects 2 --views 2 --steps 6").status, 0);
   ASSERT_EQ(stgf("train --benchmark bench --out fused.pt --input fused --epochs 1 --threads 1").status, 0);
   const std::string header = "scene,t,view,object,x,y,z,cov_xx,cov_xy,cov_xz,cov_yy,cov_yz,cov_zz,arrival\n";
@@ -520,6 +532,7 @@ TEST_F(Cli, LateRowsAreFusedInPlaceOrReportedAtTheirLine) {
 }
 
 TEST_F(Cli, LearnedMethodsNeedTheRightModel) {
+  if (!kWithLibTorch) GTEST_SKIP() << "built without LibTorch (-DSTGF_WITH_LIBTORCH=OFF)";
   write("m.csv", kHeader + kGoodRows);
   Result result = stgf("run --method sttp --measurements m.csv --out e.csv");
   EXPECT_EQ(result.status, 2);
@@ -541,6 +554,7 @@ TEST_F(Cli, LearnedMethodsNeedTheRightModel) {
 // filter, the scores. The recorded numbers come from this test's first run (GCC 12, Release, x86-64);
 // the tolerance allows for LibTorch kernels that round differently on another CPU, and nothing more.
 TEST_F(Cli, GoldenEndToEnd) {
+  if (!kWithLibTorch) GTEST_SKIP() << "built without LibTorch (-DSTGF_WITH_LIBTORCH=OFF)";
   ASSERT_EQ(stgf("dataset synthetic --out bench --seed 11 --scenes 4 --objects 4 --views 3 --steps 20").status, 0);
   const Result trained = stgf("train --benchmark bench --out fused.pt --input fused --epochs 2 --batch 8 --threads 1 --seed 1");
   ASSERT_EQ(trained.status, 0) << trained.err;
@@ -567,6 +581,7 @@ TEST_F(Cli, GoldenEndToEnd) {
 
 // stgf reproduce end to end on a tiny mpl benchmark: every output, then reuse on a second run.
 TEST_F(Cli, ReproduceWritesTablesAndFiguresAndReuses) {
+  if (!kWithLibTorch) GTEST_SKIP() << "built without LibTorch (-DSTGF_WITH_LIBTORCH=OFF)";
   const std::string arguments =
       "reproduce --benchmarks mpl --out r --instances 12,8,12 --epochs 1 --threads 1 --mpl-source '" STGF_DATA_DIR
       "/pets2009_s2l1'";

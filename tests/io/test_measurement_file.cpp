@@ -84,6 +84,45 @@ TEST(MeasurementFile, CovarianceSingular) {
   EXPECT_THAT(error_of(kHeader + "s,0,v,o,1,2,3,1,1,0,1,0,1\n"), StartsWith("m.csv:2: covariance is"));
 }
 
+// Values that would overflow, underflow or go singular later are stopped here (input_bounds.hpp).
+TEST(MeasurementFile, TimeOutsideItsBound) {
+  EXPECT_EQ(error_of(kHeader + "s,1e60,v,o,1,2,3,1,0,0,1,0,1\n"),
+            "m.csv:2: column 't': '1e60' is outside ±1e+10 (stgf's bound on times (s))");
+  EXPECT_EQ(error_of(kHeader + "s,1.7e9,v,o,1,2,3,1,0,0,1,0,1\n"), "no error");  // Unix time
+}
+
+TEST(MeasurementFile, CoordinateOutsideItsBound) {
+  EXPECT_EQ(error_of(kHeader + "s,0,v,o,1e308,2,3,1,0,0,1,0,1\n"),
+            "m.csv:2: column 'x': '1e308' is outside ±1e+07 (stgf's bound on coordinates (m))");
+  EXPECT_EQ(error_of(kHeader + "s,0,v,o,6378137,2,3,1,0,0,1,0,1\n"), "no error");  // Earth-centred
+}
+
+TEST(MeasurementFile, VarianceOutsideItsBound) {
+  EXPECT_EQ(error_of(kHeader + "s,0,v,o,1,2,3,1e-310,0,0,1e-310,0,1e-310\n"),
+            "m.csv:2: column 'cov_xx': '1e-310' is outside [1e-12, 1e12] m² (stgf's bound on a variance)");
+  EXPECT_EQ(error_of(kHeader + "s,0,v,o,1,2,3,1e308,0,0,1e308,0,1e308\n"),
+            "m.csv:2: column 'cov_xx': '1e308' is outside [1e-12, 1e12] m² (stgf's bound on a variance)");
+  EXPECT_EQ(error_of(kHeader + "s,0,v,o,1,2,3,0,0,0,1,0,1\n"),
+            "m.csv:2: covariance is not positive definite (column 'cov_xx' is '0')");
+}
+
+TEST(MeasurementFile, LongFieldIsQuotedInPart) {
+  const std::string huge(10'000'000, '7');
+  std::string message = error_of(kHeader + "s,0,v,o,1,x" + huge + ",3,1,0,0,1,0,1\n");
+  EXPECT_THAT(message, StartsWith("m.csv:2: column 'y': 'x7777"));
+  EXPECT_THAT(message, HasSubstr("…' (10000001 characters) is not a number"));
+  EXPECT_LT(message.size(), 200u);
+  message = error_of(kHeader + "s,0,v,o,1," + huge + ",3,1,0,0,1,0,1\n");
+  EXPECT_THAT(message, HasSubstr("…' (10000000 characters) is out of range"));
+  EXPECT_LT(message.size(), 200u);
+}
+
+TEST(MeasurementFile, ArrivalOutsideItsBound) {
+  EXPECT_THAT(error_of("scene,t,view,object,x,y,z,cov_xx,cov_xy,cov_xz,cov_yy,cov_yz,cov_zz,arrival\n"
+                       "s,0,v,o,1,2,3,1,0,0,1,0,1,1e11\n"),
+              StartsWith("m.csv:2: column 'arrival': '1e11' is outside ±1e+10"));
+}
+
 TEST(MeasurementFile, DuplicateRow) {
   EXPECT_EQ(error_of(kHeader + "s,0.1,v1,o1,1,2,3,1,0,0,1,0,1\n"
                                "s,0.1,v2,o1,1,2,3,1,0,0,1,0,1\n"
