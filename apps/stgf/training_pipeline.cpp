@@ -7,10 +7,13 @@
 
 #include <chrono>
 #include <cstdio>
+#include <filesystem>
+#include <stdexcept>
 
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
 
+#include "input_guard.hpp"
 #include "stgf/core/registration_calibration.hpp"
 #include "stgf/core/steps.hpp"
 #include "stgf/io/measurement_file.hpp"
@@ -21,6 +24,29 @@
 
 namespace stgf::cli {
 namespace {
+
+// A file that is removed when it goes out of scope unless moved into place.
+class WorkingFile {
+ public:
+  explicit WorkingFile(std::string path) : path_(std::move(path)) { std::filesystem::remove(path_); }
+  ~WorkingFile() {
+    std::error_code ignored;
+    if (!moved_) std::filesystem::remove(path_, ignored);
+  }
+  WorkingFile(const WorkingFile&) = delete;
+  WorkingFile& operator=(const WorkingFile&) = delete;
+
+  const std::string& path() const { return path_; }
+  // Replaces `destination` in one step (rename(2) within one directory).
+  void move_to(const std::string& destination) {
+    std::filesystem::rename(path_, destination);
+    moved_ = true;
+  }
+
+ private:
+  std::string path_;
+  bool moved_ = false;
+};
 
 
 struct Split {
@@ -105,6 +131,11 @@ void calibrate_in_filter(const std::string& model_path, const Split& validation)
 }  // namespace
 
 void train_model(ModelTraining options) {
+  std::vector<std::string> inputs = {options.training.resume};
+  for (const char* split : {"/train/", "/val/"}) {
+    for (const char* file : {"measurements.csv", "truth.csv"}) inputs.push_back(options.benchmark + split + file);
+  }
+  refuse_output_over_input("--out", options.out, inputs);
   const HistorySource source = options.input == "raw" ? HistorySource::kRawView : HistorySource::kFused;
   // auto: matched for fused histories (better on the validation splits of mpl and cad, see
   // docs/learning.md), observed for raw ones.
@@ -130,15 +161,36 @@ void train_model(ModelTraining options) {
   options.training.metadata["registration"]["calibrated_on"] = options.benchmark + "/val";
   const bool terminal = ::isatty(::fileno(stderr)) != 0;
   double last_shown = -1.0;
+  // The model is trained in a working file beside --out and moved into place only once it is
+  // finished: a previous model at --out survives a failed or killed training. A working file left by
+  // a killed run is removed here.
+  WorkingFile working(options.out + ".training");
   const TrainingReport report = train_motion_model(
-      train_graphs, validation_graphs, options.training, options.out,
+      train_graphs, validation_graphs, options.training, working.path(),
       [terminal, &last_shown](const TrainingProgress& p) { show_progress(p, terminal, last_shown); });
+  if (report.diverged_epoch != 0) {
+    const std::string where = report.diverged_batch > 0 ? fmt::format("batch {}", report.diverged_batch) : "validation";
+    const std::string advice = fmt::format("lower --lr (now {:g}) or check the training data", options.training.learning_rate);
+    if (report.best_epoch == 0 && options.training.resume.empty()) {
+      throw std::runtime_error(fmt::format("training diverged in epoch {}, {} (the loss is not finite) before any epoch "
+                                           "gave a model: nothing written, {} unchanged; {}",
+                                           report.diverged_epoch, where, options.out, advice));
+    }
+    spdlog::warn("training diverged in epoch {}, {} (the loss is not finite) and stopped; keeping the best model so far; "
+                 "{}",
+                 report.diverged_epoch, where, advice);
+  }
+  if (report.best_epoch == 0 && options.training.resume.empty()) {
+    throw std::runtime_error("no epoch gave a finite validation error: nothing written, " + options.out + " unchanged");
+  }
   const Matrix3d& q = report.process_noise;
   spdlog::info("best epoch {}: validation error {:.4f} m (constant velocity: {:.4f} m); Q at Δt = {:.3f} s: "
                "diag({:.3g}, {:.3g}, {:.3g}) m²",
                report.best_epoch, report.best_validation_error, report.constant_velocity_validation_error,
                report.process_noise_period, q(0, 0), q(1, 1), q(2, 2));
-  if (source == HistorySource::kFused) calibrate_in_filter(options.out, validation);
+  if (source == HistorySource::kFused) calibrate_in_filter(working.path(), validation);
+  MotionModel::load(working.path());  // finite weights of the stated shape, or InputError
+  working.move_to(options.out);
   spdlog::info("model written to {}", options.out);
 }
 

@@ -9,6 +9,12 @@
 //      on Φ's residuals there;
 //   4. fused input: calibrate Q again inside the filter on val (learn/filter_calibration.hpp).
 // Progress goes to the log (and a live line on a terminal).
+//
+// The model is trained in OUT.training and renamed to OUT once finished and checked (finite weights of
+// the stated shape): a failed, diverged or killed training leaves a previous OUT as it was. A loss
+// that turns non-finite stops training; with no good epoch before it, nothing is written and the
+// command fails (std::runtime_error). --out may not be one of the inputs (the benchmark's files, the
+// --resume model): a usage error before anything is read.
 
 #include <string>
 #include <vector>

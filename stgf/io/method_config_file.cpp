@@ -3,9 +3,11 @@
 
 #include <algorithm>
 #include <cmath>
-#include <vector>
+#include <filesystem>
 #include <fstream>
+#include <map>
 #include <sstream>
+#include <vector>
 
 #include <yaml-cpp/yaml.h>
 
@@ -16,6 +18,25 @@ namespace {
 
 // YAML marks count lines from 0.
 int line_of(const YAML::Node& node) { return node.Mark().line + 1; }
+
+// The keys of one mapping, each a plain name given once (yaml-cpp keeps both entries of a duplicate).
+class KeysOfOneMapping {
+ public:
+  explicit KeysOfOneMapping(std::string path) : path_(std::move(path)) {}
+  std::string operator()(const YAML::Node& key) {
+    if (!key.IsScalar()) throw InputError(path_, line_of(key), "a setting's name must be a plain word");
+    const std::string name = key.as<std::string>();
+    const auto [found, inserted] = first_line_.emplace(name, line_of(key));
+    if (!inserted) {
+      throw InputError(path_, line_of(key), "duplicate key '" + name + "' (first at line " + std::to_string(found->second) + ")");
+    }
+    return name;
+  }
+
+ private:
+  std::string path_;
+  std::map<std::string, int> first_line_;
+};
 
 double positive_number(const std::string& path, const std::string& key, const YAML::Node& node) {
   double value = 0.0;
@@ -33,8 +54,9 @@ double positive_number(const std::string& path, const std::string& key, const YA
 void read_mmt(const std::string& path, const YAML::Node& node, ConstantVelocityModel& model) {
   if (node.IsNull()) return;  // a section whose keys are all commented out
   if (!node.IsMap()) throw InputError(path, line_of(node), "mmt must be a mapping of settings");
+  KeysOfOneMapping keys(path);
   for (const auto& entry : node) {
-    const std::string key = entry.first.as<std::string>();
+    const std::string key = keys(entry.first);
     const std::string name = "mmt." + key;
     if (key == "initial_position_variance") {
       model.initial_position_variance = positive_number(path, name, entry.second);
@@ -74,8 +96,9 @@ std::string one_of(const std::string& path, const std::string& key, const YAML::
 void read_ours(const std::string& path, const YAML::Node& node, OursSettings& settings) {
   if (node.IsNull()) return;  // a section whose keys are all commented out
   if (!node.IsMap()) throw InputError(path, line_of(node), "ours must be a mapping of settings");
+  KeysOfOneMapping keys(path);
   for (const auto& entry : node) {
-    const std::string key = entry.first.as<std::string>();
+    const std::string key = keys(entry.first);
     const std::string name = "ours." + key;
     if (key == "registration") {
       try {
@@ -125,20 +148,28 @@ MethodConfig parse_method_config(const std::string& path, const std::string& tex
   MethodConfig config;
   if (root.IsNull()) return config;
   if (!root.IsMap()) throw InputError(path, line_of(root), "expected a mapping of method names to settings");
-  for (const auto& entry : root) {
-    const std::string method = entry.first.as<std::string>();
-    if (method == "mmt") {
-      read_mmt(path, entry.second, config.mmt);
-    } else if (method == "ours") {
-      read_ours(path, entry.second, config.ours);
-    } else {
-      throw InputError(path, line_of(entry.first), "unknown section '" + method + "' (known: mmt, ours)");
+  KeysOfOneMapping sections(path);
+  try {
+    for (const auto& entry : root) {
+      const std::string method = sections(entry.first);
+      if (method == "mmt") {
+        read_mmt(path, entry.second, config.mmt);
+      } else if (method == "ours") {
+        read_ours(path, entry.second, config.ours);
+      } else {
+        throw InputError(path, line_of(entry.first), "unknown section '" + method + "' (known: mmt, ours)");
+      }
     }
+  } catch (const YAML::Exception& error) {
+    // Anything yaml-cpp finds beyond the checks above, still at its file and line.
+    throw InputError(path, error.mark.line + 1, error.msg);
   }
   return config;
 }
 
 MethodConfig read_method_config(const std::string& path) {
+  std::error_code ignored;
+  if (std::filesystem::is_directory(path, ignored)) throw InputError(path, 0, "is a directory, not a YAML file");
   std::ifstream file(path);
   if (!file) throw InputError(path, 0, "cannot open the file");
   std::ostringstream text;

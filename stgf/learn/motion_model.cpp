@@ -3,7 +3,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
+#include <fstream>
 #include <numeric>
 #include <stdexcept>
 
@@ -196,7 +198,76 @@ torch::Tensor MotionNetworkImpl::acceleration(const MotionBatch& batch) {
 namespace {
 
 constexpr const char* kFormat = "stgf-motion-model";
-constexpr int kFormatVersion = 1;
+// 1: the first format. 2: adds "checksum" (required) and stores Adam's state under "adam" keyed by
+// parameter index. Version 1 files are still read (without the check).
+constexpr int kFormatVersion = 2;
+
+// FNV-1a, 64 bit: the model file's integrity check over its configuration text and every weight's
+// name, shape and bytes, in the network's parameter order. It catches corruption (a flipped byte
+// anywhere in them), not tampering.
+class Checksum {
+ public:
+  void add(const void* data, std::size_t size) {
+    const auto* bytes = static_cast<const unsigned char*>(data);
+    for (std::size_t k = 0; k < size; ++k) hash_ = (hash_ ^ bytes[k]) * 0x100000001b3ULL;
+  }
+  void add(const std::string& text) { add(text.data(), text.size()); }
+  std::string hex() const {
+    char text[17];
+    std::snprintf(text, sizeof text, "%016llx", static_cast<unsigned long long>(hash_));
+    return text;
+  }
+
+ private:
+  std::uint64_t hash_ = 0xcbf29ce484222325ULL;
+};
+
+std::string weights_checksum(const std::string& config_text, const detail::MotionNetwork& network) {
+  Checksum checksum;
+  checksum.add(config_text);
+  for (const auto& item : network->named_parameters()) {
+    const torch::Tensor values = item.value().detach().contiguous().to(torch::kFloat32);
+    checksum.add(item.key());
+    for (const int64_t size : values.sizes()) checksum.add(&size, sizeof size);
+    checksum.add(values.data_ptr<float>(), static_cast<std::size_t>(values.numel()) * sizeof(float));
+  }
+  return checksum.hex();
+}
+
+// Adam's state, keyed by parameter index. (LibTorch's Optimizer::save keys it by each parameter's
+// heap address, so two identical trainings wrote different bytes.)
+void save_adam_state(torch::optim::Optimizer& optimizer, torch::serialize::OutputArchive& archive) {
+  const std::vector<torch::Tensor>& parameters = optimizer.param_groups().at(0).params();
+  for (std::size_t k = 0; k < parameters.size(); ++k) {
+    const auto found = optimizer.state().find(c10::guts::to_string(parameters[k].unsafeGetTensorImpl()));
+    if (found == optimizer.state().end()) continue;
+    const auto* adam = dynamic_cast<const torch::optim::AdamParamState*>(found->second.get());
+    if (adam == nullptr) throw std::logic_error("save_adam_state: the optimizer is not Adam");
+    const std::string prefix = std::to_string(k) + "/";
+    archive.write(prefix + "step", c10::IValue(adam->step()));
+    archive.write(prefix + "exp_avg", adam->exp_avg());
+    archive.write(prefix + "exp_avg_sq", adam->exp_avg_sq());
+    if (adam->max_exp_avg_sq().defined()) archive.write(prefix + "max_exp_avg_sq", adam->max_exp_avg_sq());
+  }
+}
+
+void load_adam_state(torch::serialize::InputArchive& archive, torch::optim::Optimizer& optimizer) {
+  const std::vector<torch::Tensor>& parameters = optimizer.param_groups().at(0).params();
+  for (std::size_t k = 0; k < parameters.size(); ++k) {
+    const std::string prefix = std::to_string(k) + "/";
+    c10::IValue step;
+    if (!archive.try_read(prefix + "step", step)) continue;
+    auto state = std::make_unique<torch::optim::AdamParamState>();
+    state->step(step.toInt());
+    torch::Tensor exp_avg, exp_avg_sq, max_exp_avg_sq;
+    archive.read(prefix + "exp_avg", exp_avg);
+    archive.read(prefix + "exp_avg_sq", exp_avg_sq);
+    state->exp_avg(exp_avg);
+    state->exp_avg_sq(exp_avg_sq);
+    if (archive.try_read(prefix + "max_exp_avg_sq", max_exp_avg_sq)) state->max_exp_avg_sq(max_exp_avg_sq);
+    optimizer.state()[c10::guts::to_string(parameters[k].unsafeGetTensorImpl())] = std::move(state);
+  }
+}
 
 nlohmann::json shape_json(const MotionModelShape& s) {
   return {{"history_length", s.history_length}, {"embedding", s.embedding}, {"hidden", s.hidden},
@@ -258,25 +329,36 @@ void MotionModel::Impl::save(const std::string& path, const nlohmann::json& extr
         {"longest_interval", normalisation.longest_interval}}},
       {"process_noise", {{"reference", matrix_json(process_noise_reference)}, {"period", process_noise_period}}},
       {"metadata", extra_metadata.is_null() ? metadata : extra_metadata}};
+  const std::string config_text = config.dump();
   torch::serialize::OutputArchive archive;
   archive.write("format", c10::IValue(std::string(kFormat)));
   archive.write("version", c10::IValue(static_cast<int64_t>(kFormatVersion)));
-  archive.write("config", c10::IValue(config.dump()));
+  archive.write("config", c10::IValue(config_text));
+  archive.write("checksum", c10::IValue(weights_checksum(config_text, network)));
   torch::serialize::OutputArchive network_archive;
   network->save(network_archive);
   archive.write("network", network_archive);
   if (optimizer != nullptr) {
     torch::serialize::OutputArchive optimizer_archive;
-    optimizer->save(optimizer_archive);
-    archive.write("optimizer", optimizer_archive);
+    save_adam_state(*optimizer, optimizer_archive);
+    archive.write("adam", optimizer_archive);
   }
-  // Whole or not at all: write beside the target, then rename.
+  // Whole or not at all: write beside the target, then rename. Through a stream, because saving to a
+  // file name makes the archive's record names start with that name (the temporary's, with a
+  // process id): the same model would give different bytes.
   const std::string temporary = path + ".tmp." + std::to_string(::getpid());
   try {
-    archive.save_to(temporary);
+    std::ofstream file(temporary, std::ios::binary);
+    if (!file) throw std::runtime_error("cannot create " + temporary);
+    archive.save_to(file);
+    file.close();
+    if (!file) throw std::runtime_error("cannot write " + temporary);
   } catch (const c10::Error& error) {
     std::filesystem::remove(temporary);
     throw std::runtime_error(path + ": cannot write the model: " + error.what_without_backtrace());
+  } catch (const std::exception& error) {
+    std::filesystem::remove(temporary);
+    throw std::runtime_error(path + ": cannot write the model: " + error.what());
   }
   std::filesystem::rename(temporary, path);
 }
@@ -298,8 +380,9 @@ MotionModel MotionModel::load(const std::string& path) {
     throw InputError(path, 0, "not a stgf motion model (no '" + std::string(kFormat) + "' marker)");
   }
   c10::IValue version;
-  if (!archive.try_read("version", version) || !version.isInt() || version.toInt() != kFormatVersion) {
-    throw InputError(path, 0, "model file version is not " + std::to_string(kFormatVersion));
+  if (!archive.try_read("version", version) || !version.isInt() || version.toInt() < 1 ||
+      version.toInt() > kFormatVersion) {
+    throw InputError(path, 0, "model file version is not 1 to " + std::to_string(kFormatVersion));
   }
   auto impl = std::make_unique<Impl>();
   try {
@@ -342,6 +425,13 @@ MotionModel MotionModel::load(const std::string& path) {
   }
   if (!impl->process_noise_reference.allFinite() || !(impl->process_noise_period > 0.0)) {
     throw InputError(path, 0, "model process noise is invalid");
+  }
+  if (version.toInt() >= 2) {
+    c10::IValue stored;
+    if (!archive.try_read("checksum", stored) || !stored.isString()) throw InputError(path, 0, "model file has no checksum");
+    if (stored.toStringRef() != weights_checksum(config_text.toStringRef(), impl->network)) {
+      throw InputError(path, 0, "model file is corrupt: its weights or settings do not match its checksum");
+    }
   }
   return MotionModel(std::move(impl));
 }
@@ -416,7 +506,11 @@ bool load_optimizer_state(const std::string& path, torch::optim::Optimizer& opti
   torch::serialize::InputArchive archive;
   archive.load_from(path);
   torch::serialize::InputArchive optimizer_archive;
-  if (!archive.try_read("optimizer", optimizer_archive)) return false;
+  if (archive.try_read("adam", optimizer_archive)) {
+    load_adam_state(optimizer_archive, optimizer);
+    return true;
+  }
+  if (!archive.try_read("optimizer", optimizer_archive)) return false;  // version 1
   optimizer.load(optimizer_archive);
   return true;
 }

@@ -224,14 +224,22 @@ TrainingReport train_motion_model(const std::vector<TrainingGraph>& train, const
       const Targets targets = targets_of(chosen, batch);
       optimizer.zero_grad();
       const torch::Tensor loss = euclidean_errors(impl.network->forward(batch), impl.normalisation, targets).mean();
+      const double loss_value = loss.item<double>();
+      if (!std::isfinite(loss_value)) {
+        report.diverged_epoch = epoch;
+        report.diverged_batch = b + 1;
+        break;
+      }
       loss.backward();
       optimizer.step();
-      loss_sum += loss.item<double>();
+      loss_sum += loss_value;
       if (progress) {
         TrainingProgress p{epoch, first_epoch + options.epochs - 1, b + 1, batches, loss_sum / (b + 1), elapsed(), nullptr};
         progress(p);
       }
     }
+
+    if (report.diverged_epoch != 0) break;
 
     // Validation: mean Euclidean error and the residual second moment for Q.
     torch::NoGradGuard no_grad;
@@ -252,6 +260,11 @@ TrainingReport train_motion_model(const std::vector<TrainingGraph>& train, const
     }
     const auto n = static_cast<double>(report.validation_objects);
     EpochReport epoch_report{epoch, loss_sum / std::max(1, batches), error_sum / n, elapsed() - epoch_start};
+    if (!std::isfinite(epoch_report.validation_error)) {
+      report.diverged_epoch = epoch;
+      report.diverged_batch = 0;
+      break;
+    }
     report.epochs.push_back(epoch_report);
     if (epoch_report.validation_error < best_error) {
       best_error = epoch_report.validation_error;
@@ -264,6 +277,7 @@ TrainingReport train_motion_model(const std::vector<TrainingGraph>& train, const
       metadata["learning_rate"] = options.learning_rate;
       metadata["batch_graphs"] = options.batch_graphs;
       metadata["seed"] = options.seed;
+      metadata["threads"] = torch::get_num_threads();  // weights are bitwise reproducible for the same count
       metadata["history_noise"] =
           options.history == HistoryNoise::kObserved ? "observed" : "truth_with_matched_noise";
       impl.metadata = metadata;

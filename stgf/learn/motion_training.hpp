@@ -59,10 +59,17 @@ struct TrainingReport {
   Matrix3d process_noise = Matrix3d::Zero();        // calibrated Q_ref
   double process_noise_period = 0.0;                // Δt_ref
   std::size_t train_objects = 0, validation_objects = 0;
+  // Training stops at the first non-finite loss or validation error (the weights are then lost); the
+  // epoch and batch where it happened (batch 0: in validation), 0 when it did not.
+  int diverged_epoch = 0;
+  int diverged_batch = 0;
 };
 
-// Trains Φ and writes the best model to `model_path`. std::invalid_argument for empty data or
-// bad options.
+// Trains Φ and writes the best model to `model_path` each time an epoch improves on the best so far
+// (best_epoch stays 0 when none did: nothing written unless resuming, whose file is copied there
+// first). A non-finite loss stops training (diverged_epoch). std::invalid_argument for empty data
+// or bad options. Callers that must not expose a half-trained model give a working path and move
+// it into place at the end (apps/stgf/training_pipeline.cpp).
 TrainingReport train_motion_model(const std::vector<TrainingGraph>& train, const std::vector<TrainingGraph>& validation,
                                   const MotionTrainingOptions& options, const std::string& model_path,
                                   const std::function<void(const TrainingProgress&)>& progress = {});

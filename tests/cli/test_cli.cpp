@@ -506,6 +506,43 @@ TEST_F(Cli, TrainThenRunLearnedMethods) {
   EXPECT_THAT(eval.out, HasSubstr("| sttp |"));
 }
 
+// Training never reports success without a new finite model, and never replaces the previous one
+// before it is done: it works in OUT.training and renames it at the end.
+TEST_F(Cli, TrainingThatDivergesWritesNothingAndKeepsThePreviousModel) {
+  if (!kWithLibTorch) GTEST_SKIP() << "built without LibTorch (-DSTGF_WITH_LIBTORCH=OFF)";
+  ASSERT_EQ(stgf("dataset synthetic --out bench --seed 3 --scenes 2 --objects 3 --views 2 --steps 15").status, 0);
+  for (const char* input : {"fused", "raw"}) {
+    const Result diverged = stgf(std::string("train --benchmark bench --out m.pt --epochs 2 --threads 1 --lr 1e30 --input ") + input);
+    EXPECT_EQ(diverged.status, 1) << input;
+    EXPECT_THAT(diverged.err, HasSubstr("training diverged in epoch 1")) << input;
+    EXPECT_THAT(diverged.err, Not(HasSubstr("model written"))) << input;
+    EXPECT_FALSE(exists("m.pt")) << input;
+    EXPECT_FALSE(exists("m.pt.training")) << input;
+  }
+  write("m.pt", "the previous model");
+  EXPECT_EQ(stgf("train --benchmark bench --out m.pt --epochs 1 --threads 1 --lr 1e30").status, 1);
+  EXPECT_EQ(slurp(directory_ / "m.pt"), "the previous model");
+}
+
+TEST_F(Cli, KilledTrainingKeepsThePreviousModel) {
+  if (!kWithLibTorch) GTEST_SKIP() << "built without LibTorch (-DSTGF_WITH_LIBTORCH=OFF)";
+  ASSERT_EQ(stgf("dataset synthetic --out bench --seed 3 --scenes 4 --objects 3 --views 2 --steps 30").status, 0);
+  write("m.pt", "the previous model");
+  // Kill -9 once the first epoch has written its model into the working file.
+  const std::string script = "cd '" + directory_.string() + "' && ('" STGF_BINARY
+                             "' train --benchmark bench --out m.pt --epochs 1000 --threads 1 -q & pid=$!; "
+                             "for i in $(seq 600); do [ -s m.pt.training ] && break; sleep 0.05; done; "
+                             "kill -9 $pid; wait $pid 2>/dev/null; true)";
+  ASSERT_EQ(std::system(script.c_str()), 0);
+  EXPECT_TRUE(exists("m.pt.training")) << "the run did not get as far as its first epoch";
+  EXPECT_EQ(slurp(directory_ / "m.pt"), "the previous model");
+  // The next training removes the stale working file and finishes.
+  const Result next = stgf("train --benchmark bench --out m.pt --epochs 1 --threads 1");
+  EXPECT_EQ(next.status, 0) << next.err;
+  EXPECT_FALSE(exists("m.pt.training"));
+  EXPECT_NE(slurp(directory_ / "m.pt"), "the previous model");
+}
+
 // Rows with an arrival column are fused in arrival order; one later than the lag window is left out
 // with a warning, or stops the run at its line with `late_measurements: stop`.
 TEST_F(Cli, LateRowsAreFusedInPlaceOrReportedAtTheirLine) {

@@ -1,4 +1,5 @@
 // SPDX-License-Identifier: Apache-2.0
+#include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
 #include <fstream>
@@ -44,6 +45,27 @@ TEST(MethodConfigFile, ErrorsNameTheLine) {
   EXPECT_EQ(error_of("# c\nkalman:\n  a: 1\n"), "c.yaml:2: unknown section 'kalman' (known: mmt, ours)");
   EXPECT_EQ(error_of("mmt: [1, 2\n"), error_of("mmt: [1, 2\n"));  // deterministic parse errors
   EXPECT_NE(error_of("mmt: [1, 2\n").find("c.yaml:"), std::string::npos);
+}
+
+TEST(MethodConfigFile, DuplicateKeysAreErrors) {
+  EXPECT_EQ(error_of("ours:\n  lag_window_s: 1\n  tracks: per-view\n  lag_window_s: 2\n"),
+            "c.yaml:4: duplicate key 'lag_window_s' (first at line 2)");
+  EXPECT_EQ(error_of("mmt:\n  position_noise_density: 1\nmmt:\n  position_noise_density: 2\n"),
+            "c.yaml:3: duplicate key 'mmt' (first at line 1)");
+}
+
+TEST(MethodConfigFile, KeysMustBePlainNames) {
+  EXPECT_EQ(error_of("ours:\n  [a, b]: 1\n"), "c.yaml:2: a setting's name must be a plain word");
+}
+
+TEST(MethodConfigFile, DirectoryIsNotAConfig) {
+  const std::string directory = ::testing::TempDir();
+  try {
+    read_method_config(directory);
+    ADD_FAILURE() << "a directory was read as a config";
+  } catch (const InputError& error) {
+    EXPECT_THAT(std::string(error.what()), ::testing::HasSubstr("is a directory, not a YAML file"));
+  }
 }
 
 TEST(MethodConfigFile, OursDefaults) {

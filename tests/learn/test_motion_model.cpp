@@ -7,6 +7,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <random>
 
 #include <unistd.h>
@@ -18,11 +19,14 @@
 #include "stgf/learn/motion_network.hpp"
 #include "stgf/learn/motion_training.hpp"
 #include "support/tiny_motion_model.hpp"
-#include "stgf/learn/motion_training.hpp"
-#include "support/tiny_motion_model.hpp"
 
 namespace stgf {
 namespace {
+
+std::string read_bytes(const std::string& path) {
+  std::ifstream file(path, std::ios::binary);
+  return std::string(std::istreambuf_iterator<char>(file), std::istreambuf_iterator<char>());
+}
 
 namespace fs = std::filesystem;
 using ::testing::HasSubstr;
@@ -284,8 +288,50 @@ TEST(MotionTraining, SameSeedSameModel) {
   for (std::size_t g = 0; g < pa.size(); ++g) {
     for (std::size_t i = 0; i < pa[g].size(); ++i) EXPECT_EQ(pa[g][i], pb[g][i]);
   }
+  // The files themselves, optimizer state included, are byte-identical.
+  EXPECT_TRUE(read_bytes(a) == read_bytes(b)) << "same seed, different model file bytes";
   fs::remove(a);
   fs::remove(b);
+}
+
+// The largest stored record of a zip archive (a PyTorch archive stores records uncompressed): its
+// offset and size in the file, from the central directory (PK\1\2 entries: size at +20, name,
+// extra and comment lengths at +28, +30, +32, the local header's offset at +42).
+std::pair<std::size_t, std::size_t> largest_zip_record(const std::string& bytes) {
+  std::pair<std::size_t, std::size_t> largest{0, 0};
+  const auto u16 = [&](std::size_t at) { return static_cast<std::size_t>(static_cast<unsigned char>(bytes[at])) |
+                                               static_cast<std::size_t>(static_cast<unsigned char>(bytes[at + 1])) << 8; };
+  const auto u32 = [&](std::size_t at) { return u16(at) | u16(at + 2) << 16; };
+  for (std::size_t at = bytes.find("PK\x01\x02"); at != std::string::npos && at + 46 <= bytes.size();
+       at = bytes.find("PK\x01\x02", at + 46)) {
+    const std::size_t size = u32(at + 20);
+    const std::size_t local = u32(at + 42);
+    const std::size_t data = local + 30 + u16(local + 26) + u16(local + 28);
+    if (size > largest.second) largest = {data, size};
+  }
+  return largest;
+}
+
+TEST(MotionModel, CorruptWeightsAreCaughtByTheChecksum) {
+  const std::string path = scratch("intact.pt").string();
+  MotionModel(tiny_shape(), MotionNormalisation{}, 6).save(path);
+  const std::string bytes = read_bytes(path);
+  const auto [offset, size] = largest_zip_record(bytes);
+  ASSERT_GT(size, 256u) << "no weight record found";
+  for (const std::size_t start : {offset, offset + size / 2, offset + size - 64}) {
+    std::string corrupt = bytes;
+    for (std::size_t k = start; k < start + 64; ++k) corrupt[k] = static_cast<char>(corrupt[k] ^ 0x5a);
+    const std::string corrupt_path = scratch("corrupt.pt").string();
+    std::ofstream(corrupt_path, std::ios::binary) << corrupt;
+    try {
+      MotionModel::load(corrupt_path);
+      ADD_FAILURE() << "64 flipped bytes at " << start << " were accepted";
+    } catch (const InputError& error) {
+      EXPECT_THAT(error.what(), HasSubstr(corrupt_path + ": ")) << error.what();
+    }
+    fs::remove(corrupt_path);
+  }
+  fs::remove(path);
 }
 
 }  // namespace
