@@ -43,6 +43,12 @@ std::optional<std::string> covariance_problem(const Matrix3d& covariance) {
   if (!(smallest > 0.0)) {
     return "covariance is not positive definite (smallest eigenvalue " + format_number(smallest) + ")";
   }
+  // The closed-form eigenvalues lose the small ones when the scales differ a lot (found by fuzzing:
+  // a 2×2 block with a negative determinant beside a variance of 5e9); the Cholesky factorisation
+  // that from_covariance inverts with decides.
+  if (!inverse_by_cholesky(symmetrised(covariance))) {
+    return "covariance is not positive definite (Cholesky factorisation fails)";
+  }
   if (largest > kMaxConditionNumber * smallest) {
     return "covariance is nearly singular (eigenvalues " + format_number(smallest) + " to " +
            format_number(largest) + ")";

@@ -41,7 +41,11 @@ Gaussian3 read_gaussian(const CsvReader& reader, const CsvReader::Row& row, cons
   const Vector3d mean = reader.vector3(row, columns.mean);
   const Matrix3d covariance = reader.symmetric3(row, columns.covariance);
   if (auto problem = covariance_problem(covariance)) reader.fail(row, *problem);
-  return Gaussian3::from_covariance(mean, covariance);
+  try {
+    return Gaussian3::from_covariance(mean, covariance);
+  } catch (const std::invalid_argument& error) {
+    reader.fail(row, error.what());  // at its line, whatever covariance_problem missed
+  }
 }
 
 Duplicate find_first_duplicate(std::vector<RowIdentity>& rows) {

@@ -106,6 +106,13 @@ TEST(MeasurementFile, VarianceOutsideItsBound) {
             "m.csv:2: covariance is not positive definite (column 'cov_xx' is '0')");
 }
 
+// Found by fuzz_measurements: an indefinite 2×2 block beside a huge variance passed the closed-form
+// eigenvalues and failed later without a file and line.
+TEST(MeasurementFile, IndefiniteBlockBesideAHugeVariance) {
+  EXPECT_THAT(error_of(kHeader + "s,0,v,o,1,2,3,0.004,0.5015,0,0.21,0,5555555555.0025\n"),
+              StartsWith("m.csv:2: covariance is not positive definite"));
+}
+
 TEST(MeasurementFile, LongFieldIsQuotedInPart) {
   const std::string huge(10'000'000, '7');
   std::string message = error_of(kHeader + "s,0,v,o,1,x" + huge + ",3,1,0,0,1,0,1\n");

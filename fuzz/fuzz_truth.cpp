@@ -1,0 +1,8 @@
+// SPDX-License-Identifier: Apache-2.0
+// libFuzzer target: the truth reader (stgf/io/truth_file.hpp).
+#include "fuzz_csv_readers.hpp"
+#include "stgf/io/truth_file.hpp"
+
+extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
+  return stgf::fuzz::check_reader(data, size, [](std::string_view text) { stgf::parse_truth("t.csv", text); });
+}

@@ -1,0 +1,46 @@
+#!/usr/bin/env bash
+# SPDX-License-Identifier: Apache-2.0
+# Builds the libFuzzer targets (fuzz/: one per reader) with clang, ASan and UBSan in build-fuzz/, and
+# runs each for SECONDS (default 15) from its seed corpus (fuzz/corpus/TARGET, plus what earlier runs
+# found, kept in build-fuzz/corpus/TARGET). Any crash, sanitizer report, hang (>10 s per input) or
+# exception other than stgf::InputError fails the run and leaves the input in build-fuzz/.
+#   scripts/fuzz.sh [SECONDS] [TARGET...]      targets: measurements truth estimates config model
+set -euo pipefail
+cd "$(dirname "$0")/.."
+seconds=${1:-15}
+shift || true
+targets=("$@")
+[ ${#targets[@]} -eq 0 ] && targets=(measurements truth estimates config model)
+
+if [ ! -f build-fuzz/CMakeCache.txt ]; then
+  CXX=clang++ CC=clang cmake -S . -B build-fuzz -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DSTGF_BUILD_FUZZERS=ON \
+    -DSTGF_BUILD_TESTS=OFF -DSTGF_BUILD_BENCHMARKS=OFF -DSTGF_BUILD_PYTHON=OFF >/dev/null
+fi
+cmake --build build-fuzz --parallel "$(nproc)" $(printf -- '--target fuzz_%s ' "${targets[@]}")
+
+# A small model file as the model target's seed (a model file is binary: made here, not stored).
+if [[ " ${targets[*]} " == *" model "* ]] && [ ! -f build-fuzz/corpus/model/seed.pt ]; then
+  mkdir -p build-fuzz/corpus/model build-fuzz/seed
+  scripts/build.sh >/dev/null
+  build/stgf dataset synthetic --out build-fuzz/seed/bench --seed 1 --scenes 2 --objects 2 --views 2 --steps 12 -q
+  build/stgf train --benchmark build-fuzz/seed/bench --out build-fuzz/corpus/model/seed.pt --epochs 1 --threads 1 -q
+fi
+
+export ASAN_OPTIONS=detect_leaks=1:abort_on_error=1
+export UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1
+for target in "${targets[@]}"; do
+  corpus=build-fuzz/corpus/$target
+  mkdir -p "$corpus"
+  [ -d "fuzz/corpus/$target" ] && cp -n fuzz/corpus/"$target"/* "$corpus"/ 2>/dev/null || true
+  echo "== fuzz_$target for ${seconds} s"
+  (cd build-fuzz && fuzz/fuzz_"$target" -max_total_time="$seconds" -timeout=10 -rss_limit_mb=4096 -max_len=65536 \
+    -print_final_stats=1 "corpus/$target" 2>&1 | grep -E "^(stat::number_of_executed_units|stat::peak_rss_mb|==|SUMMARY|ERROR|Done)" || true)
+  # libFuzzer's exit status is lost in the pipe above; a finding leaves crash-*, leak-*, timeout-* or oom-*.
+  if compgen -G "build-fuzz/crash-*" >/dev/null || compgen -G "build-fuzz/leak-*" >/dev/null ||
+     compgen -G "build-fuzz/timeout-*" >/dev/null || compgen -G "build-fuzz/oom-*" >/dev/null; then
+    echo "fuzz_$target found a failing input:" >&2
+    ls build-fuzz/crash-* build-fuzz/leak-* build-fuzz/timeout-* build-fuzz/oom-* 2>/dev/null >&2
+    exit 1
+  fi
+done
+echo "fuzzing: no finding"
