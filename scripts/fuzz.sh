@@ -1,9 +1,11 @@
 #!/usr/bin/env bash
 # SPDX-License-Identifier: Apache-2.0
-# Builds the libFuzzer targets (fuzz/: one per reader) with clang, ASan and UBSan in build-fuzz/, and
-# runs each for SECONDS (default 15) from its seed corpus (fuzz/corpus/TARGET, plus what earlier runs
-# found, kept in build-fuzz/corpus/TARGET). Any crash, sanitizer report, hang (>10 s per input) or
-# exception other than stgf::InputError fails the run and leaves the input in build-fuzz/.
+# Builds the libFuzzer targets (fuzz/: one per text reader) with clang, ASan and UBSan in build-fuzz/,
+# and runs each for SECONDS (default 15) from its seed corpus (fuzz/corpus/TARGET, plus what earlier
+# runs found, kept in build-fuzz/corpus/TARGET). Any crash, sanitizer report, hang (>10 s per input)
+# or exception other than stgf::InputError fails the run and leaves the input in build-fuzz/.
+# The model file reader ("model") is fuzzed by build/fuzz/fuzz_model_file, a mutation harness
+# (fuzz/mutate_model_file.cpp), for 20 × SECONDS mutated files.
 #   scripts/fuzz.sh [SECONDS] [TARGET...]      targets: measurements truth estimates config model
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -16,19 +18,25 @@ if [ ! -f build-fuzz/CMakeCache.txt ]; then
   CXX=clang++ CC=clang cmake -S . -B build-fuzz -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DSTGF_BUILD_FUZZERS=ON \
     -DSTGF_BUILD_TESTS=OFF -DSTGF_BUILD_BENCHMARKS=OFF -DSTGF_BUILD_PYTHON=OFF >/dev/null
 fi
-cmake --build build-fuzz --parallel "$(nproc)" $(printf -- '--target fuzz_%s ' "${targets[@]}")
+text_targets=()
+for target in "${targets[@]}"; do [ "$target" != model ] && text_targets+=("$target"); done
+[ ${#text_targets[@]} -gt 0 ] && cmake --build build-fuzz --parallel "$(nproc)" $(printf -- '--target fuzz_%s ' "${text_targets[@]}")
 
-# A small model file as the model target's seed (a model file is binary: made here, not stored).
-if [[ " ${targets[*]} " == *" model "* ]] && [ ! -f build-fuzz/corpus/model/seed.pt ]; then
-  mkdir -p build-fuzz/corpus/model build-fuzz/seed
+if [[ " ${targets[*]} " == *" model "* ]]; then
+  # A small model file as the seed (a model file is binary: made here, not stored).
   scripts/build.sh >/dev/null
-  build/stgf dataset synthetic --out build-fuzz/seed/bench --seed 1 --scenes 2 --objects 2 --views 2 --steps 12 -q
-  build/stgf train --benchmark build-fuzz/seed/bench --out build-fuzz/corpus/model/seed.pt --epochs 1 --threads 1 -q
+  mkdir -p build-fuzz/seed
+  if [ ! -f build-fuzz/seed/model.pt ]; then
+    build/stgf dataset synthetic --out build-fuzz/seed/bench --seed 1 --scenes 2 --objects 2 --views 2 --steps 12 -q
+    build/stgf train --benchmark build-fuzz/seed/bench --out build-fuzz/seed/model.pt --epochs 1 --threads 1 -q
+  fi
+  echo "== fuzz_model_file: $((20 * seconds)) mutated model files"
+  build/fuzz/fuzz_model_file build-fuzz/seed/model.pt $((20 * seconds)) 1
 fi
 
 export ASAN_OPTIONS=detect_leaks=1:abort_on_error=1
 export UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1
-for target in "${targets[@]}"; do
+for target in "${text_targets[@]}"; do
   corpus=build-fuzz/corpus/$target
   mkdir -p "$corpus"
   [ -d "fuzz/corpus/$target" ] && cp -n fuzz/corpus/"$target"/* "$corpus"/ 2>/dev/null || true

@@ -9,6 +9,7 @@ packages=(
   libtorch-dev libopenblas0-openmp
   libgtest-dev libgmock-dev librapidcheck-dev libbenchmark-dev
   python3-dev pybind11-dev python3-numpy
+  clang libfuzzer-14-dev
   gnuplot-nox
 )
 

@@ -1,0 +1,15 @@
+#!/usr/bin/env bash
+# SPDX-License-Identifier: Apache-2.0
+# The test suite under AddressSanitizer + UndefinedBehaviorSanitizer, in build-sanitize/: everything
+# that does not need LibTorch (core, methods, io, datasets and the CLI; LibTorch itself is not
+# instrumented, and Φ's tests run under the release build). Any report fails the run.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+if [ ! -f build-sanitize/CMakeCache.txt ]; then
+  cmake -S . -B build-sanitize -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DSTGF_SANITIZE=ON -DSTGF_WITH_LIBTORCH=OFF \
+    -DSTGF_BUILD_PYTHON=OFF -DSTGF_BUILD_BENCHMARKS=OFF >/dev/null
+fi
+cmake --build build-sanitize --parallel "$(nproc)"
+export ASAN_OPTIONS=detect_leaks=1:abort_on_error=1:strict_string_checks=1
+export UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1
+ctest --test-dir build-sanitize --output-on-failure --parallel "$(nproc)" -E installed_package "$@"
