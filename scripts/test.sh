@@ -3,7 +3,9 @@
 # Installs what is missing, builds, and runs the whole test suite through ctest. Then:
 #   - the learned model's tests once more with one OpenMP thread and OpenBLAS on its Haswell kernels
 #     (results must not depend on the thread count or the BLAS kernel choice);
-#   - the core and the methods built and tested without LibTorch (build-core/, -DSTGF_WITH_LIBTORCH=OFF).
+#   - the core and the methods built and tested without LibTorch (build-core/, -DSTGF_WITH_LIBTORCH=OFF);
+#   - every reader fuzzed for 10 s (scripts/fuzz.sh: libFuzzer with ASan + UBSan, and the model file's
+#     mutation harness).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 scripts/install-deps.sh
@@ -22,3 +24,6 @@ cmake --build build-core --parallel "$(nproc)" --target test_core test_methods
 if ldd build-core/tests/test_core build-core/tests/test_methods | grep -q libtorch; then echo "build-core links LibTorch" >&2; exit 1; fi
 build-core/tests/test_core --gtest_brief=1
 build-core/tests/test_methods --gtest_brief=1
+
+echo "== a short fuzzing run of every reader (scripts/fuzz.sh; longer runs: scripts/fuzz.sh SECONDS)"
+scripts/fuzz.sh 10
