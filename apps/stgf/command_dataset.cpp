@@ -59,7 +59,8 @@ void add_synthetic(CLI::App& dataset) {
       "synthetic", "Simulated objects that turn, stop and avoid each other, seen by views placed around the scene.");
   command->add_option("--out", options->out, "benchmark folder to write (replaced if it is a previous benchmark)")
       ->required();
-  command->add_option("--seed", s.seed, "random seed; the same seed gives byte-identical files")->capture_default_str();
+  command->add_option("--seed", s.seed, "random seed; the same seed gives byte-identical files")->capture_default_str()
+      ->check(CLI::NonNegativeNumber);
   command->add_option("--objects", s.objects, "objects per scene")->capture_default_str()->check(CLI::PositiveNumber);
   command->add_option("--views", s.views, "views per scene")->capture_default_str()->check(CLI::PositiveNumber);
   command->add_option("--steps", s.steps, "steps per scene")->capture_default_str()->check(CLI::Range(2, 1000000));
@@ -85,7 +86,8 @@ void add_mpl(CLI::App& dataset) {
   command->add_option("--out", options->out, "benchmark folder to write (replaced if it is a previous benchmark)")
       ->required();
   command->add_option("--seed", m.seed, "random seed; the same seed gives byte-identical CSV files")
-      ->capture_default_str();
+      ->capture_default_str()
+      ->check(CLI::NonNegativeNumber);
   command->add_option("--source", m.source_directory,
                       "PETS 2009 S2L1 folder (annotation XML + calibration/; default: the shipped one)");
   command->add_option("--train", m.train_instances, "training instances")->capture_default_str();
@@ -129,7 +131,8 @@ void add_cad(CLI::App& dataset) {
   command->add_option("--out", options->out, "benchmark folder to write (replaced if it is a previous benchmark)")
       ->required();
   command->add_option("--seed", c.seed, "random seed; the same seed gives byte-identical CSV files")
-      ->capture_default_str();
+      ->capture_default_str()
+      ->check(CLI::NonNegativeNumber);
   command->add_option("--source", c.source_directory,
                       "KITTI tracking training folder: label/ oxts/ calib/ (default: $STGF_KITTI_DIR, else "
                       "share/stgf/kitti_tracking; KITTI is not shipped, see data/README.md)");
@@ -178,7 +181,8 @@ void add_ethucy(CLI::App& dataset) {
       "ETH/UCY pedestrians (real trajectories) seen by simulated cameras around each scene; leave-one-scene-out.");
   command->add_option("--out", options->out, "benchmark folder to write (replaced if it is a previous benchmark)")
       ->required();
-  command->add_option("--seed", e.seed, "random seed; the same seed gives byte-identical files")->capture_default_str();
+  command->add_option("--seed", e.seed, "random seed; the same seed gives byte-identical files")->capture_default_str()
+      ->check(CLI::NonNegativeNumber);
   command->add_option("--source", e.source_directory, "folder with the eight ETH/UCY files (default: the shipped one)");
   command->add_option("--test-scene", e.test_scene, "held-out scene")
       ->capture_default_str()

@@ -403,7 +403,8 @@ void add_reproduce_command(CLI::App& app) {
       ->capture_default_str();
   command->add_flag("--quick", options->quick,
                     "smaller benchmarks (mpl 300/150/300, cad 300/100/300 instances) and 3 epochs: minutes, not tens of minutes");
-  command->add_option("--seed", options->seed, "seed of the benchmarks and the training")->capture_default_str();
+  command->add_option("--seed", options->seed, "seed of the benchmarks and the training")->capture_default_str()
+      ->check(CLI::NonNegativeNumber);
   command->add_option("--instances", options->instances,
                       "instances per split as train,val,test (default: the benchmark's, or --quick's sizes)")
       ->delimiter(',')

@@ -509,6 +509,9 @@ void validate_cad_options(const CadOptions& options) {
   check.whole("objects", options.objects, 1);
   check.whole("max_vehicles", options.max_vehicles, 1);
   check.whole("min_vehicles", options.min_vehicles, 1);
+  check.size((static_cast<double>(options.train_instances) + options.val_instances + options.test_instances) *
+                 options.steps * options.objects * options.max_vehicles,
+             "instances × steps × objects × vehicles");
   check.range("min_vehicles", options.min_vehicles, "max_vehicles", options.max_vehicles);
 
   const std::vector<std::string>* lists[] = {&options.train_sequences, &options.val_sequences,

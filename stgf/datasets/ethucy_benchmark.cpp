@@ -259,6 +259,9 @@ void validate_ethucy_options(const EthUcyOptions& options) {
              "in (0, 1)");
 
   check.whole("views", options.views, 1);
+  check.size((static_cast<double>(options.train_instances) + options.val_instances + options.test_instances) *
+                 options.steps * options.max_objects * options.views,
+             "instances × steps × objects × views");
   check.not_negative("min_view_standoff_m", options.min_view_standoff_m);
   check.not_negative("max_view_standoff_m", options.max_view_standoff_m);
   check.range("min_view_standoff_m", options.min_view_standoff_m, "max_view_standoff_m",

@@ -285,6 +285,9 @@ void validate_mpl_options(const MplOptions& options) {
   }
   check.whole("steps", options.steps, 1);
   check.whole("pedestrians", options.pedestrians, 1);
+  check.size((static_cast<double>(options.train_instances) + options.val_instances + options.test_instances) *
+                 options.steps * options.pedestrians * static_cast<double>(options.views.size()),
+             "instances × steps × pedestrians × views");
   if (options.views.empty()) check.reject("views must name at least one camera");
   std::set<int> seen;
   for (const int view : options.views) {

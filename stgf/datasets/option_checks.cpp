@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: Apache-2.0
 #include "stgf/datasets/option_checks.hpp"
 
+#include <cstdio>
+
 #include <fmt/format.h>
 
 #include <cmath>
@@ -51,6 +53,14 @@ void OptionChecks::range(std::string_view low_name, int low, std::string_view hi
 void OptionChecks::range(std::string_view low_name, double low, std::string_view high_name,
                          double high) const {
   check_range(*this, low_name, low, high_name, high);
+}
+
+void OptionChecks::size(double rows, std::string_view formula) const {
+  if (rows <= kMaxBenchmarkRows) return;
+  char text[64];
+  std::snprintf(text, sizeof text, "%.3g", rows);
+  reject(std::string(formula) + " allows up to " + text +
+         " measurement rows, more than the 1e8 a benchmark may have (about 10 GB of CSV)");
 }
 
 }  // namespace stgf

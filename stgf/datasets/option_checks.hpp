@@ -13,6 +13,8 @@
 
 namespace stgf {
 
+inline constexpr double kMaxBenchmarkRows = 1e8;
+
 class OptionChecks {
  public:
   // `builder` starts every message, e.g. "synthetic benchmark".
@@ -30,6 +32,9 @@ class OptionChecks {
   void probability(std::string_view name, double value) const;   // in [0, 1]: "a probability in [0, 1]"
   // low ≤ high.
   void range(std::string_view low_name, int low, std::string_view high_name, int high) const;
+  // A benchmark of at most kMaxBenchmarkRows measurement rows (about 10 GB of CSV): `rows` is the
+  // most the options can give, `formula` says how it was counted ("scenes × steps × objects × views").
+  void size(double rows, std::string_view formula) const;
   void range(std::string_view low_name, double low, std::string_view high_name, double high) const;
 
  private:

@@ -310,6 +310,8 @@ void validate_synthetic_options(const SyntheticOptions& options) {
   check.whole("views", options.views, 1);
   check.whole("steps", options.steps, 2);
   check.whole("scenes", options.scenes, 1);
+  check.size(static_cast<double>(options.scenes) * options.steps * options.objects * options.views,
+             "scenes × steps × objects × views");
   check.positive("rate_hz", options.rate_hz);
 
   check.positive("area_half_width_m", options.area_half_width_m);

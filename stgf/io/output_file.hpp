@@ -2,12 +2,17 @@
 #pragma once
 // An output file that appears whole or not at all: text goes to a temporary file beside the
 // target, and commit() renames it into place. If commit() is never reached (an error, an
-// exception), the destructor removes the temporary file and the target is left untouched.
+// exception), the destructor removes the temporary file and the target is left untouched. A
+// process killed outright cannot clean up: its PATH.tmp.PID is removed by the next OutputFile for
+// PATH (remove_stale_temporaries).
 
 #include <fstream>
 #include <string>
 
 namespace stgf {
+
+// Removes PATH.tmp.PID files whose process no longer exists (a writer killed before it finished).
+void remove_stale_temporaries(const std::string& path);
 
 class OutputFile {
  public:

@@ -208,6 +208,17 @@ TEST_F(Cli, WithoutLibTorchLearnedWorkIsAClearError) {
   EXPECT_THAT(result.err, HasSubstr("stgf train needs the learned motion model, and this stgf was built without LibTorch"));
 }
 
+TEST_F(Cli, DatasetRefusesNegativeSeedsAndSizesThatCannotFit) {
+  Result result = stgf("dataset synthetic --out b --seed -1");
+  EXPECT_EQ(result.status, 2);
+  EXPECT_THAT(result.err, HasSubstr("--seed"));
+  result = stgf("dataset synthetic --out b --scenes 100000 --steps 100000 --objects 100");
+  EXPECT_EQ(result.status, 2);
+  EXPECT_THAT(result.err, HasSubstr("scenes × steps × objects × views allows up to 4e+12 measurement rows, more than "
+                                    "the 1e8 a benchmark may have"));
+  EXPECT_FALSE(exists("b"));
+}
+
 TEST_F(Cli, ModelForAModelFreeMethodIsAUsageError) {
   write("m.csv", kHeader + kGoodRows);
   write("model.pt", "not read");
