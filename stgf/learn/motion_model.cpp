@@ -367,7 +367,32 @@ void MotionModel::save(const std::string& path, const nlohmann::json& metadata) 
   impl_->save(path, metadata, nullptr);
 }
 
+namespace {
+
+// The first line of a LibTorch error, at most 120 characters (its messages carry source excerpts
+// and backtraces).
+std::string first_line(const char* what) {
+  std::string text(what);
+  text = text.substr(0, text.find('\n'));
+  return text.size() > 120 ? text.substr(0, 117) + "..." : text;
+}
+
+}  // namespace
+
 MotionModel MotionModel::load(const std::string& path) {
+  // Whatever LibTorch throws on a damaged archive (c10::Error, TorchScript parse errors found by
+  // fuzz_model_file, …) is an input error naming the file.
+  try {
+    return load_checked(path);
+  } catch (const InputError&) {
+    throw;
+  } catch (const std::exception& error) {
+    throw InputError(path, 0, "not a readable model file (corrupt, or not written by stgf train): " +
+                                  first_line(error.what()));
+  }
+}
+
+MotionModel MotionModel::load_checked(const std::string& path) {
   if (!std::filesystem::exists(path)) throw InputError(path, 0, "no such model file");
   torch::serialize::InputArchive archive;
   try {

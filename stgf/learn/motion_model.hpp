@@ -125,6 +125,7 @@ class MotionModel final : public MotionPredictor {
 
  private:
   explicit MotionModel(std::unique_ptr<Impl> impl);
+  static MotionModel load_checked(const std::string& path);  // load() without the catch-all
   std::unique_ptr<Impl> impl_;
 };
 

@@ -297,7 +297,7 @@ TEST(MotionTraining, SameSeedSameModel) {
 // The largest stored record of a zip archive (a PyTorch archive stores records uncompressed): its
 // offset and size in the file, from the central directory (PK\1\2 entries: size at +20, name,
 // extra and comment lengths at +28, +30, +32, the local header's offset at +42).
-std::pair<std::size_t, std::size_t> largest_zip_record(const std::string& bytes) {
+std::pair<std::size_t, std::size_t> largest_zip_record(const std::string& bytes, const std::string& name_part = "") {
   std::pair<std::size_t, std::size_t> largest{0, 0};
   const auto u16 = [&](std::size_t at) { return static_cast<std::size_t>(static_cast<unsigned char>(bytes[at])) |
                                                static_cast<std::size_t>(static_cast<unsigned char>(bytes[at + 1])) << 8; };
@@ -306,10 +306,30 @@ std::pair<std::size_t, std::size_t> largest_zip_record(const std::string& bytes)
        at = bytes.find("PK\x01\x02", at + 46)) {
     const std::size_t size = u32(at + 20);
     const std::size_t local = u32(at + 42);
+    if (bytes.substr(at + 46, u16(at + 28)).find(name_part) == std::string::npos) continue;
     const std::size_t data = local + 30 + u16(local + 26) + u16(local + 28);
     if (size > largest.second) largest = {data, size};
   }
   return largest;
+}
+
+// Found by fuzz_model_file: damaged TorchScript code inside the archive made LibTorch throw a parse
+// error that is not a c10::Error, and it escaped as a non-input error.
+TEST(MotionModel, DamagedArchiveCodeIsAnInputError) {
+  const std::string path = scratch("code.pt").string();
+  MotionModel(tiny_shape(), MotionNormalisation{}, 6).save(path);
+  std::string bytes = read_bytes(path);
+  const auto [offset, size] = largest_zip_record(bytes, ".py");
+  ASSERT_GT(size, 16u) << "no TorchScript code record found";
+  for (std::size_t k = offset; k < offset + 8; ++k) bytes[k] = static_cast<char>(0xb7);
+  std::ofstream(path, std::ios::binary | std::ios::trunc) << bytes;
+  try {
+    MotionModel::load(path);
+    ADD_FAILURE() << "damaged code was accepted";
+  } catch (const InputError& error) {
+    EXPECT_THAT(error.what(), HasSubstr(path + ": not a readable model file")) << error.what();
+  }
+  fs::remove(path);
 }
 
 TEST(MotionModel, CorruptWeightsAreCaughtByTheChecksum) {
