@@ -11,6 +11,7 @@
 
 #include <yaml-cpp/yaml.h>
 
+#include "stgf/io/input_bounds.hpp"
 #include "stgf/io/input_error.hpp"
 
 namespace stgf {
@@ -28,7 +29,7 @@ class KeysOfOneMapping {
     const std::string name = key.as<std::string>();
     const auto [found, inserted] = first_line_.emplace(name, line_of(key));
     if (!inserted) {
-      throw InputError(path_, line_of(key), "duplicate key '" + name + "' (first at line " + std::to_string(found->second) + ")");
+      throw InputError(path_, line_of(key), "duplicate key " + quoted_excerpt(name) + " (first at line " + std::to_string(found->second) + ")");
     }
     return name;
   }
@@ -67,7 +68,7 @@ void read_mmt(const std::string& path, const YAML::Node& node, ConstantVelocityM
     } else if (key == "velocity_noise_density") {
       model.velocity_noise_density = positive_number(path, name, entry.second);
     } else {
-      throw InputError(path, line_of(entry.first), "unknown setting '" + name + "'");
+      throw InputError(path, line_of(entry.first), "unknown setting " + quoted_excerpt(name));
     }
   }
 }
@@ -131,7 +132,7 @@ void read_ours(const std::string& path, const YAML::Node& node, OursSettings& se
     } else if (key == "late_measurements") {
       settings.stop_on_late = one_of(path, name, entry.second, {"leave-out", "stop"}) == "stop";
     } else {
-      throw InputError(path, line_of(entry.first), "unknown setting '" + name + "'");
+      throw InputError(path, line_of(entry.first), "unknown setting " + quoted_excerpt(name));
     }
   }
 }
@@ -157,7 +158,7 @@ MethodConfig parse_method_config(const std::string& path, const std::string& tex
       } else if (method == "ours") {
         read_ours(path, entry.second, config.ours);
       } else {
-        throw InputError(path, line_of(entry.first), "unknown section '" + method + "' (known: mmt, ours)");
+        throw InputError(path, line_of(entry.first), "unknown section " + quoted_excerpt(method) + " (known: mmt, ours)");
       }
     }
   } catch (const YAML::Exception& error) {

@@ -54,6 +54,13 @@ TEST(MethodConfigFile, DuplicateKeysAreErrors) {
             "c.yaml:3: duplicate key 'mmt' (first at line 1)");
 }
 
+// Found by fuzz_config: a 2,500-character key was echoed whole.
+TEST(MethodConfigFile, LongNamesAreQuotedInPart) {
+  const std::string message = error_of(std::string(1000, 'k') + ": 1\n");
+  EXPECT_LT(message.size(), 200u) << message;
+  EXPECT_NE(message.find("(1000 characters) (known: mmt, ours)"), std::string::npos) << message;
+}
+
 TEST(MethodConfigFile, KeysMustBePlainNames) {
   EXPECT_EQ(error_of("ours:\n  [a, b]: 1\n"), "c.yaml:2: a setting's name must be a plain word");
 }
