@@ -2,6 +2,9 @@
 #include "stgf/learn/motion_model.hpp"
 
 #include <algorithm>
+#include <optional>
+#include <iterator>
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -369,6 +372,56 @@ void MotionModel::save(const std::string& path, const nlohmann::json& metadata) 
 
 namespace {
 
+std::uint32_t crc32(const unsigned char* data, std::size_t size) {
+  static const auto table = [] {
+    std::array<std::uint32_t, 256> t{};
+    for (std::uint32_t n = 0; n < 256; ++n) {
+      std::uint32_t c = n;
+      for (int k = 0; k < 8; ++k) c = (c & 1U) != 0 ? 0xEDB88320U ^ (c >> 1) : c >> 1;
+      t[n] = c;
+    }
+    return t;
+  }();
+  std::uint32_t crc = 0xFFFFFFFFU;
+  for (std::size_t i = 0; i < size; ++i) crc = table[(crc ^ data[i]) & 0xFFU] ^ (crc >> 8);
+  return crc ^ 0xFFFFFFFFU;
+}
+
+// Why the zip archive `bytes` is damaged, or nullopt: every record listed in its central directory
+// lies inside the file and matches its CRC-32. LibTorch's TorchScript parser crashes (a segmentation
+// fault, which nothing can catch) on some damaged archives (found by fuzz_model_file), so stgf checks
+// the bytes before LibTorch parses them. Archives it cannot check (ZIP64, compressed records) pass.
+std::optional<std::string> zip_damage(const std::string& bytes) {
+  const auto* data = reinterpret_cast<const unsigned char*>(bytes.data());
+  const std::size_t size = bytes.size();
+  const auto u16 = [&](std::size_t at) { return static_cast<std::uint32_t>(data[at] | data[at + 1] << 8); };
+  const auto u32 = [&](std::size_t at) { return u16(at) | u16(at + 2) << 16; };
+  if (size < 22) return "too short for a zip archive";
+  std::size_t end = size - 22;  // the end-of-central-directory record, after at most a 64 KB comment
+  while (u32(end) != 0x06054b50U) {
+    if (end == 0 || size - end > 22 + 65535) return "no zip directory";
+    --end;
+  }
+  const std::size_t entries = u16(end + 10);
+  std::size_t at = u32(end + 16);
+  if (u32(end + 16) == 0xFFFFFFFFU || entries == 0xFFFFU) return std::nullopt;  // ZIP64
+  for (std::size_t k = 0; k < entries; ++k) {
+    if (at + 46 > size || u32(at) != 0x02014b50U) return "damaged zip directory";
+    const std::uint32_t method = u16(at + 10), crc = u32(at + 16), stored = u32(at + 20);
+    const std::size_t name_length = u16(at + 28);
+    const std::size_t local = u32(at + 42);
+    if (at + 46 + name_length > size) return "damaged zip directory";
+    const std::string name = bytes.substr(at + 46, std::min<std::size_t>(name_length, 80));
+    if (stored == 0xFFFFFFFFU || local == 0xFFFFFFFFU) return std::nullopt;  // ZIP64
+    if (local + 30 > size || u32(local) != 0x04034b50U) return "record '" + name + "' is not where the directory says";
+    const std::size_t start = local + 30 + u16(local + 26) + u16(local + 28);
+    if (start + stored > size) return "record '" + name + "' runs past the end of the file";
+    if (method == 0 && crc32(data + start, stored) != crc) return "record '" + name + "' fails its CRC-32";
+    at += 46 + name_length + u16(at + 30) + u16(at + 32);
+  }
+  return std::nullopt;
+}
+
 // The first line of a LibTorch error, at most 120 characters (its messages carry source excerpts
 // and backtraces).
 std::string first_line(const char* what) {
@@ -394,6 +447,11 @@ MotionModel MotionModel::load(const std::string& path) {
 
 MotionModel MotionModel::load_checked(const std::string& path) {
   if (!std::filesystem::exists(path)) throw InputError(path, 0, "no such model file");
+  {
+    std::ifstream file(path, std::ios::binary);
+    const std::string bytes((std::istreambuf_iterator<char>(file)), std::istreambuf_iterator<char>());
+    if (const auto damage = zip_damage(bytes)) throw InputError(path, 0, "not a readable model file (corrupt, or not written by stgf train): " + *damage);
+  }
   torch::serialize::InputArchive archive;
   try {
     archive.load_from(path);

@@ -328,6 +328,7 @@ TEST(MotionModel, DamagedArchiveCodeIsAnInputError) {
     ADD_FAILURE() << "damaged code was accepted";
   } catch (const InputError& error) {
     EXPECT_THAT(error.what(), HasSubstr(path + ": not a readable model file")) << error.what();
+    EXPECT_THAT(error.what(), HasSubstr("fails its CRC-32")) << error.what();
   }
   fs::remove(path);
 }
