@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: Apache-2.0
 // libFuzzer target: the truth reader (stgf/io/truth_file.hpp).
-#include "fuzz_csv_readers.hpp"
+#include "reader_contract.hpp"
 #include "stgf/io/truth_file.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {

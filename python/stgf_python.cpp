@@ -30,7 +30,6 @@
 #include "stgf/io/truth_file.hpp"
 #include "stgf/learn/motion_model.hpp"
 #include "stgf/learn/named_methods.hpp"
-#include "stgf/learn/registration_metadata.hpp"
 #include "stgf/methods/spatiotemporal_graph_filter.hpp"
 #include "stgf/version.hpp"
 
@@ -121,22 +120,28 @@ std::vector<Measurement> measurements_from_arrays(const py::object& scene, const
   return rows;
 }
 
-py::dict estimates_to_dict(const std::vector<Gaussian3>& estimates) {
-  const auto n = static_cast<py::ssize_t>(estimates.size());
+// n Gaussians as out[mean_key] (n, 3) and out[covariance_key] (n, 3, 3); `at(i)` gives the i-th.
+template <typename GaussianAt>
+void put_gaussians(py::dict& out, py::ssize_t n, GaussianAt at, const char* mean_key, const char* covariance_key) {
   Array mean({n, py::ssize_t{3}});
   Array covariance({n, py::ssize_t{3}, py::ssize_t{3}});
   auto m = mean.mutable_unchecked<2>();
   auto c = covariance.mutable_unchecked<3>();
   for (py::ssize_t i = 0; i < n; ++i) {
-    const Gaussian3& e = estimates[static_cast<std::size_t>(i)];
+    const Gaussian3& e = at(static_cast<std::size_t>(i));
     for (int r = 0; r < 3; ++r) {
       m(i, r) = e.mean()(r);
       for (int k = 0; k < 3; ++k) c(i, r, k) = e.covariance()(r, k);
     }
   }
+  out[mean_key] = mean;
+  out[covariance_key] = covariance;
+}
+
+py::dict estimates_to_dict(const std::vector<Gaussian3>& estimates) {
   py::dict out;
-  out["mean"] = mean;
-  out["covariance"] = covariance;
+  put_gaussians(out, static_cast<py::ssize_t>(estimates.size()),
+                [&](std::size_t i) -> const Gaussian3& { return estimates[i]; }, "mean", "covariance");
   return out;
 }
 
@@ -174,13 +179,8 @@ class Filter {
       model_path = loaded.path;
       predictor_ = loaded.model;
     }
-    FilterOptions options;
-    options.registration = resolve_registration_prior(settings.ours, metadata, model_path);
-    options.adapt_process_noise = settings.ours.adapt_process_noise;
-    options.tracks = settings.ours.per_view_tracks ? TrackMode::kPerView : TrackMode::kPerObject;
-    options.lag_window = settings.ours.lag_window;
-    options.late = settings.ours.stop_on_late ? LatePolicy::kStop : LatePolicy::kLeaveOut;
-    filter_ = std::make_unique<SpatiotemporalGraphFilter>(*predictor_, options);
+    filter_ = std::make_unique<SpatiotemporalGraphFilter>(*predictor_,
+                                                          filter_options_for(settings.ours, metadata, model_path));
   }
 
   py::dict fuse(const Array& time, const py::object& view, const py::object& object, const Array& z, const Array& R) {
@@ -249,28 +249,21 @@ py::dict read_measurements_file(const std::string& path) {
   const MeasurementFile file = read_measurements(path);
   const auto n = static_cast<py::ssize_t>(file.rows.size());
   std::vector<std::string> scene, view, object;
-  Array time(n), z({n, py::ssize_t{3}}), R({n, py::ssize_t{3}, py::ssize_t{3}});
+  Array time(n);
   auto t = time.mutable_unchecked<1>();
-  auto zz = z.mutable_unchecked<2>();
-  auto rr = R.mutable_unchecked<3>();
   for (py::ssize_t i = 0; i < n; ++i) {
     const Measurement& row = file.rows[static_cast<std::size_t>(i)];
     scene.push_back(row.scene);
     view.push_back(row.view);
     object.push_back(row.object);
     t(i) = row.time;
-    for (int r = 0; r < 3; ++r) {
-      zz(i, r) = row.position.mean()(r);
-      for (int k = 0; k < 3; ++k) rr(i, r, k) = row.position.covariance()(r, k);
-    }
   }
   py::dict out;
   out["scene"] = scene;
   out["time"] = time;
   out["view"] = view;
   out["object"] = object;
-  out["z"] = z;
-  out["R"] = R;
+  put_gaussians(out, n, [&](std::size_t i) -> const Gaussian3& { return file.rows[i].position; }, "z", "R");
   out["line"] = file.lines;
   out["arrival"] = py::none();
   out["sensor_position"] = py::none();
@@ -313,18 +306,18 @@ py::dict read_truth_file(const std::string& path) {
 
 py::dict read_estimates_file(const std::string& path) {
   const EstimateFile file = read_estimates(path);
-  std::vector<Gaussian3> positions;
   std::vector<std::string> scene, view, object;
   Array time(static_cast<py::ssize_t>(file.rows.size()));
   for (std::size_t i = 0; i < file.rows.size(); ++i) {
     const Estimate& row = file.rows[i];
-    positions.push_back(row.position);
     scene.push_back(row.scene);
     view.push_back(row.view);
     object.push_back(row.object);
     time.mutable_at(static_cast<py::ssize_t>(i)) = row.time;
   }
-  py::dict out = estimates_to_dict(positions);
+  py::dict out;
+  put_gaussians(out, static_cast<py::ssize_t>(file.rows.size()),
+                [&](std::size_t i) -> const Gaussian3& { return file.rows[i].position; }, "mean", "covariance");
   out["scene"] = scene;
   out["time"] = time;
   out["view"] = view;

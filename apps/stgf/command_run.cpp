@@ -9,7 +9,7 @@
 
 #include "commands.hpp"
 #include "input_guard.hpp"
-#include "method_names.hpp"
+#include "learned_seam.hpp"
 #include "stgf/core/scene_filter.hpp"
 #include "stgf/core/steps.hpp"
 #include "stgf/io/input_error.hpp"

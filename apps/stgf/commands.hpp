@@ -7,7 +7,7 @@
 
 namespace stgf::cli {
 
-// Shared by the commands' two homes (stgf lists them, stgf-learned runs them; method_names.hpp).
+// Shared by the commands' two homes (stgf lists them, stgf-learned runs them; learned_seam.hpp).
 inline constexpr const char* kTrainDescription =
     "Train the learned motion model Φ on a benchmark folder's train split, validating on val.";
 inline constexpr const char* kReproduceDescription =

@@ -1,12 +1,12 @@
 // SPDX-License-Identifier: Apache-2.0
-// The `stgf` executable's side of the seam in method_names.hpp: whatever needs the learned motion
+// The `stgf` executable's side of the seam in learned_seam.hpp: whatever needs the learned motion
 // model hands the command line over to stgf-learned. The subcommands below exist so that
 // `stgf --help` lists them; their options, help and work are stgf-learned's.
 
 #include <memory>
 
 #include "commands.hpp"
-#include "method_names.hpp"
+#include "learned_seam.hpp"
 
 namespace stgf::cli {
 namespace {

@@ -4,7 +4,7 @@
 // Exit status: 0 on success, 2 on bad input or usage (the message names the file and line), 1 on
 // any other failure. Output files are written whole or not at all.
 //
-// This main() serves both executables of the CLI (method_names.hpp): `stgf`, and `stgf-learned`
+// This main() serves both executables of the CLI (learned_seam.hpp): `stgf`, and `stgf-learned`
 // with the learned motion model linked in.
 
 #include <cstdio>
@@ -16,7 +16,7 @@
 #include <spdlog/spdlog.h>
 
 #include "commands.hpp"
-#include "method_names.hpp"
+#include "learned_seam.hpp"
 #include "stgf/io/input_error.hpp"
 #include "stgf/version.hpp"
 #include "suggestions.hpp"

@@ -1,13 +1,13 @@
 // SPDX-License-Identifier: Apache-2.0
 #pragma once
-// stgf-learned's side of method_names.hpp: any method by name (stgf/learn/named_methods.hpp), with
+// stgf-learned's side of learned_seam.hpp: any method by name (stgf/learn/named_methods.hpp), with
 // what the run did logged for the user (stgf run with a learned method, stgf reproduce).
 
 #include <span>
 #include <string>
 #include <vector>
 
-#include "method_names.hpp"
+#include "learned_seam.hpp"
 #include "stgf/core/records.hpp"
 #include "stgf/learn/motion_model.hpp"
 #include "stgf/learn/named_methods.hpp"

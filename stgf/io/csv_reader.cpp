@@ -142,18 +142,19 @@ double CsvReader::number(const Row& row, int column) const {
   if (*begin == '+') ++begin;  // from_chars does not take a leading plus
   double value = 0.0;
   const auto [end, error] = std::from_chars(begin, field.data() + field.size(), value);
-  const std::string where = "column " + quoted_excerpt(name) + ": " + quoted_excerpt(field);
-  if (error == std::errc::result_out_of_range) fail(row, where + " is out of range");
-  if (error != std::errc() || end != field.data() + field.size()) fail(row, where + " is not a number");
-  if (!std::isfinite(value)) fail(row, where + " is not finite");
+  // The message is built only on failure: this runs for every number of every row.
+  if (error == std::errc::result_out_of_range) fail(row, column_and_field(row, column) + " is out of range");
+  if (error != std::errc() || end != field.data() + field.size()) {
+    fail(row, column_and_field(row, column) + " is not a number");
+  }
+  if (!std::isfinite(value)) fail(row, column_and_field(row, column) + " is not finite");
   return value;
 }
 
 double CsvReader::bounded_number(const Row& row, int column, double max_abs, const char* what) const {
   const double value = number(row, column);
   if (std::abs(value) > max_abs) {
-    fail(row, "column " + quoted_excerpt(header_[static_cast<std::size_t>(column)]) + ": " +
-                  quoted_excerpt(row.fields[static_cast<std::size_t>(column)]) + " is outside ±" +
+    fail(row, column_and_field(row, column) + " is outside ±" +
                   fmt::format("{:g}", max_abs) + " (stgf's bound on " + what + ")");
   }
   return value;
@@ -171,17 +172,14 @@ double CsvReader::time(const Row& row, int column) const { return bounded_number
 Eigen::Matrix3d CsvReader::symmetric3(const Row& row, const int (&columns)[6]) const {
   const double xx = number(row, columns[0]), xy = number(row, columns[1]), xz = number(row, columns[2]);
   const double yy = number(row, columns[3]), yz = number(row, columns[4]), zz = number(row, columns[5]);
-  for (const int k : {0, 3, 5}) {
-    const double variance = number(row, columns[k]);
+  for (const auto& [variance, column] : {std::pair{xx, columns[0]}, std::pair{yy, columns[3]}, std::pair{zz, columns[5]}}) {
     if (variance <= 0.0) {
       fail(row, "covariance is not positive definite (column " +
-                    quoted_excerpt(header_[static_cast<std::size_t>(columns[k])]) + " is " +
-                    quoted_excerpt(row.fields[static_cast<std::size_t>(columns[k])]) + ")");
+                    quoted_excerpt(header_[static_cast<std::size_t>(column)]) + " is " +
+                    quoted_excerpt(row.fields[static_cast<std::size_t>(column)]) + ")");
     }
     if (!(variance >= kMinVariance && variance <= kMaxVariance)) {
-      fail(row, "column " + quoted_excerpt(header_[static_cast<std::size_t>(columns[k])]) + ": " +
-                    quoted_excerpt(row.fields[static_cast<std::size_t>(columns[k])]) +
-                    " is outside [1e-12, 1e12] m² (stgf's bound on a variance)");
+      fail(row, column_and_field(row, column) + " is outside [1e-12, 1e12] m² (stgf's bound on a variance)");
     }
   }
   Eigen::Matrix3d matrix;
@@ -191,9 +189,9 @@ Eigen::Matrix3d CsvReader::symmetric3(const Row& row, const int (&columns)[6]) c
 
 void CsvReader::fail(const Row& row, const std::string& what) const { throw InputError(path_, row.line, what); }
 
-std::string quoted_excerpt(const std::string& text) {
-  if (text.size() <= kMaxQuotedField) return "'" + text + "'";
-  return "'" + text.substr(0, kMaxQuotedField - 20) + "…' (" + std::to_string(text.size()) + " characters)";
+std::string CsvReader::column_and_field(const Row& row, int column) const {
+  const auto k = static_cast<std::size_t>(column);
+  return "column " + quoted_excerpt(header_[k]) + ": " + quoted_excerpt(row.fields[k]);
 }
 
 }  // namespace stgf

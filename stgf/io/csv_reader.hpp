@@ -59,6 +59,8 @@ class CsvReader {
   [[noreturn]] void fail(const Row& row, const std::string& what) const;
 
  private:
+  // "column 'NAME': 'FIELD'", both quoted in part when long.
+  std::string column_and_field(const Row& row, int column) const;
   CsvReader(std::string path, std::unique_ptr<std::istream> input);
   void read_header();
   // The next non-blank line, without its line end; false at the end.

@@ -13,9 +13,9 @@
 #include <stdexcept>
 
 #include <Eigen/Eigenvalues>
-#include <unistd.h>
 
 #include "stgf/io/input_error.hpp"
+#include "stgf/io/output_file.hpp"
 #include "stgf/learn/motion_network.hpp"
 
 namespace stgf {
@@ -346,24 +346,16 @@ void MotionModel::Impl::save(const std::string& path, const nlohmann::json& extr
     save_adam_state(*optimizer, optimizer_archive);
     archive.write("adam", optimizer_archive);
   }
-  // Whole or not at all: write beside the target, then rename. Through a stream, because saving to a
-  // file name makes the archive's record names start with that name (the temporary's, with a
-  // process id): the same model would give different bytes.
-  const std::string temporary = path + ".tmp." + std::to_string(::getpid());
+  // Whole or not at all (OutputFile). Through a stream, because saving to a file name makes the
+  // archive's record names start with that name (the temporary's, with a process id): the same model
+  // would give different bytes.
+  OutputFile file(path);
   try {
-    std::ofstream file(temporary, std::ios::binary);
-    if (!file) throw std::runtime_error("cannot create " + temporary);
-    archive.save_to(file);
-    file.close();
-    if (!file) throw std::runtime_error("cannot write " + temporary);
+    archive.save_to(file.stream());
   } catch (const c10::Error& error) {
-    std::filesystem::remove(temporary);
     throw std::runtime_error(path + ": cannot write the model: " + error.what_without_backtrace());
-  } catch (const std::exception& error) {
-    std::filesystem::remove(temporary);
-    throw std::runtime_error(path + ": cannot write the model: " + error.what());
   }
-  std::filesystem::rename(temporary, path);
+  file.commit();
 }
 
 void MotionModel::save(const std::string& path, const nlohmann::json& metadata) const {
@@ -447,14 +439,15 @@ MotionModel MotionModel::load(const std::string& path) {
 
 MotionModel MotionModel::load_checked(const std::string& path) {
   if (!std::filesystem::exists(path)) throw InputError(path, 0, "no such model file");
-  {
-    std::ifstream file(path, std::ios::binary);
-    const std::string bytes((std::istreambuf_iterator<char>(file)), std::istreambuf_iterator<char>());
-    if (const auto damage = zip_damage(bytes)) throw InputError(path, 0, "not a readable model file (corrupt, or not written by stgf train): " + *damage);
+  // Read once: checked here, then parsed by LibTorch from the same bytes.
+  std::ifstream file(path, std::ios::binary);
+  const std::string bytes((std::istreambuf_iterator<char>(file)), std::istreambuf_iterator<char>());
+  if (const auto damage = zip_damage(bytes)) {
+    throw InputError(path, 0, "not a readable model file (corrupt, or not written by stgf train): " + *damage);
   }
   torch::serialize::InputArchive archive;
   try {
-    archive.load_from(path);
+    archive.load_from(bytes.data(), bytes.size());
   } catch (const c10::Error&) {
     throw InputError(path, 0, "not a readable model file (corrupt, or not written by stgf train)");
   }

@@ -22,6 +22,17 @@ MotionModel load_model_for(const std::string& method, const std::string& model_p
   return model;
 }
 
+FilterOptions filter_options_for(const OursSettings& settings, const nlohmann::json& metadata,
+                                 const std::string& model_path, bool* registration_missing) {
+  FilterOptions options;
+  options.registration = resolve_registration_prior(settings, metadata, model_path, registration_missing);
+  options.adapt_process_noise = settings.adapt_process_noise;
+  options.tracks = settings.per_view_tracks ? TrackMode::kPerView : TrackMode::kPerObject;
+  options.lag_window = settings.lag_window;
+  options.late = settings.stop_on_late ? LatePolicy::kStop : LatePolicy::kLeaveOut;
+  return options;
+}
+
 std::vector<Gaussian3> run_named_method(const std::string& method, const MethodConfig& config, const MotionModel* model,
                                         const std::string& model_path, std::span<const Measurement> rows,
                                         MethodRunReport* report) {
@@ -32,12 +43,7 @@ std::vector<Gaussian3> run_named_method(const std::string& method, const MethodC
   if (model == nullptr) throw std::invalid_argument("--method " + method + " needs --model");
   if (method == "sttp") return run_single_view_prediction(*model, rows, &out.restarted_tracks);
 
-  FilterOptions options;
-  options.registration = resolve_registration_prior(config.ours, model->metadata(), model_path, &out.registration_missing);
-  options.adapt_process_noise = config.ours.adapt_process_noise;
-  options.tracks = config.ours.per_view_tracks ? TrackMode::kPerView : TrackMode::kPerObject;
-  options.lag_window = config.ours.lag_window;
-  options.late = config.ours.stop_on_late ? LatePolicy::kStop : LatePolicy::kLeaveOut;
+  const FilterOptions options = filter_options_for(config.ours, model->metadata(), model_path, &out.registration_missing);
   const bool prediction_only = method == "ours-l";
   FilterRun run = run_spatiotemporal_graph_filter(*model, options, rows, /*keep_predictions=*/prediction_only);
   out.restarted_tracks = run.restarted_tracks;

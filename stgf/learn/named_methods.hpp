@@ -7,7 +7,10 @@
 #include <string>
 #include <vector>
 
+#include <nlohmann/json.hpp>
+
 #include "stgf/core/records.hpp"
+#include "stgf/core/scene_filter.hpp"
 #include "stgf/learn/motion_model.hpp"
 #include "stgf/methods/registry.hpp"
 
@@ -16,6 +19,12 @@ namespace stgf {
 // Loads the model a learned method needs and checks it was trained on the right input (raw for sttp,
 // fused for ours-l and ours); InputError or std::invalid_argument naming the file otherwise.
 MotionModel load_model_for(const std::string& method, const std::string& model_path);
+
+// The spatiotemporal graph filter's options from the `ours:` settings: the registration prior is the
+// model's calibration (its `metadata`, an empty object without a model) with the settings' overrides
+// (resolve_registration_prior; `registration_missing` as there), the rest as set.
+FilterOptions filter_options_for(const OursSettings& settings, const nlohmann::json& metadata,
+                                 const std::string& model_path, bool* registration_missing = nullptr);
 
 // What a run did that its caller should tell the user about.
 struct MethodRunReport {

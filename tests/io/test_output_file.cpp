@@ -7,19 +7,18 @@
 
 #include <filesystem>
 #include <fstream>
-#include <iterator>
 
 #include <gtest/gtest.h>
+
+#include "support/scratch_directory.hpp"
 
 namespace stgf {
 namespace {
 
 namespace fs = std::filesystem;
-
-std::string slurp(const fs::path& path) {
-  std::ifstream file(path);
-  return std::string(std::istreambuf_iterator<char>(file), std::istreambuf_iterator<char>());
-}
+using testing::entries_of;
+using testing::file_bytes;
+using testing::ScratchDirectory;
 
 // The id of a process that has exited.
 pid_t finished_process() {
@@ -30,33 +29,28 @@ pid_t finished_process() {
 }
 
 TEST(OutputFile, UncommittedLeavesTheTargetAlone) {
-  const fs::path directory = fs::path(::testing::TempDir()) / ("stgf_output_" + std::to_string(::getpid()));
-  fs::create_directories(directory);
-  const std::string target = (directory / "out.csv").string();
+  const ScratchDirectory directory;
+  const std::string target = directory / "out.csv";
   write_text_file(target, "previous\n");
   {
     OutputFile file(target);
     file.stream() << "half";
   }  // no commit: an error happened
-  EXPECT_EQ(slurp(target), "previous\n");
-  EXPECT_EQ(std::distance(fs::directory_iterator(directory), fs::directory_iterator()), 1);
-  fs::remove_all(directory);
+  EXPECT_EQ(file_bytes(target), "previous\n");
+  EXPECT_EQ(entries_of(directory.path()), std::vector<std::string>{"out.csv"});
 }
 
 TEST(OutputFile, KilledWritersTemporaryIsRemovedByTheNextWriter) {
-  const fs::path directory = fs::path(::testing::TempDir()) / ("stgf_stale_" + std::to_string(::getpid()));
-  fs::create_directories(directory);
-  const fs::path target = directory / "out.csv";
-  const fs::path stale = directory / ("out.csv.tmp." + std::to_string(finished_process()));
-  const fs::path live = directory / ("out.csv.tmp." + std::to_string(::getppid()));  // a writer still running
-  const fs::path other = directory / "other.csv.tmp.1";
-  for (const fs::path& path : {stale, live, other}) std::ofstream(path) << "partial";
-  write_text_file(target.string(), "new\n");
-  EXPECT_EQ(slurp(target), "new\n");
+  const ScratchDirectory directory;
+  const std::string target = directory / "out.csv";
+  const std::string stale = directory.write("out.csv.tmp." + std::to_string(finished_process()), "partial");
+  const std::string live = directory.write("out.csv.tmp." + std::to_string(::getppid()), "partial");  // still running
+  const std::string other = directory.write("other.csv.tmp.1", "partial");
+  write_text_file(target, "new\n");
+  EXPECT_EQ(file_bytes(target), "new\n");
   EXPECT_FALSE(fs::exists(stale));
   EXPECT_TRUE(fs::exists(live));
   EXPECT_TRUE(fs::exists(other));
-  fs::remove_all(directory);
 }
 
 }  // namespace

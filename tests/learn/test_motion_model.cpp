@@ -7,7 +7,6 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
-#include <iterator>
 #include <random>
 
 #include <unistd.h>
@@ -18,15 +17,11 @@
 #include "stgf/io/input_error.hpp"
 #include "stgf/learn/motion_network.hpp"
 #include "stgf/learn/motion_training.hpp"
+#include "support/scratch_directory.hpp"
 #include "support/tiny_motion_model.hpp"
 
 namespace stgf {
 namespace {
-
-std::string read_bytes(const std::string& path) {
-  std::ifstream file(path, std::ios::binary);
-  return std::string(std::istreambuf_iterator<char>(file), std::istreambuf_iterator<char>());
-}
 
 namespace fs = std::filesystem;
 using ::testing::HasSubstr;
@@ -289,7 +284,7 @@ TEST(MotionTraining, SameSeedSameModel) {
     for (std::size_t i = 0; i < pa[g].size(); ++i) EXPECT_EQ(pa[g][i], pb[g][i]);
   }
   // The files themselves, optimizer state included, are byte-identical.
-  EXPECT_TRUE(read_bytes(a) == read_bytes(b)) << "same seed, different model file bytes";
+  EXPECT_TRUE(testing::file_bytes(a) == testing::file_bytes(b)) << "same seed, different model file bytes";
   fs::remove(a);
   fs::remove(b);
 }
@@ -318,7 +313,7 @@ std::pair<std::size_t, std::size_t> largest_zip_record(const std::string& bytes,
 TEST(MotionModel, DamagedArchiveCodeIsAnInputError) {
   const std::string path = scratch("code.pt").string();
   MotionModel(tiny_shape(), MotionNormalisation{}, 6).save(path);
-  std::string bytes = read_bytes(path);
+  std::string bytes = testing::file_bytes(path);
   const auto [offset, size] = largest_zip_record(bytes, ".py");
   ASSERT_GT(size, 16u) << "no TorchScript code record found";
   for (std::size_t k = offset; k < offset + 8; ++k) bytes[k] = static_cast<char>(0xb7);
@@ -336,7 +331,7 @@ TEST(MotionModel, DamagedArchiveCodeIsAnInputError) {
 TEST(MotionModel, CorruptWeightsAreCaughtByTheChecksum) {
   const std::string path = scratch("intact.pt").string();
   MotionModel(tiny_shape(), MotionNormalisation{}, 6).save(path);
-  const std::string bytes = read_bytes(path);
+  const std::string bytes = testing::file_bytes(path);
   const auto [offset, size] = largest_zip_record(bytes);
   ASSERT_GT(size, 256u) << "no weight record found";
   for (const std::size_t start : {offset, offset + size / 2, offset + size - 64}) {

@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: Apache-2.0
 #pragma once
-// The methods of `stgf run` by name, and the seam between the CLI's two executables:
+// The seam between the CLI's two executables (method names: stgf/methods/registry.hpp):
 //
 //   stgf           everything that needs no LibTorch (run with aom, wls, mmt; eval; plot; dataset),
 //                  so that `stgf --version`, `stgf run --method wls` and `stgf eval` do not pay

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: Apache-2.0
-#include "method_names.hpp"
+#include "learned_seam.hpp"
 
 #include <unistd.h>
 
