@@ -59,6 +59,7 @@ int main(int argc, char** argv) {
   stgf::cli::add_run_command(app);
   stgf::cli::add_eval_command(app);
   stgf::cli::add_plot_command(app);
+  stgf::cli::add_inject_fault_command(app);
 
   try {
     app.parse(argc, argv);

@@ -3,6 +3,8 @@
 
 #include <spdlog/spdlog.h>
 
+#include "gating_log.hpp"
+
 namespace stgf::cli {
 
 std::vector<Gaussian3> run_method_and_log(const std::string& method, const MethodConfig& config, const MotionModel* model,
@@ -14,11 +16,12 @@ std::vector<Gaussian3> run_method_and_log(const std::string& method, const Metho
                  "taken as zero unless set under `ours:` in --config",
                  model_path);
   }
-  if (report.restarted_tracks > 0) {
+  if (report.restarted_tracks > report.gating.restarts) {
     spdlog::info("{}: {} track(s) started again: the object had not been seen for longer than the model's horizon "
                  "of {:.2f} s (twice the longest interval it trained on)",
-                 method, report.restarted_tracks, model->prediction_horizon());
+                 method, report.restarted_tracks - report.gating.restarts, model->prediction_horizon());
   }
+  log_gating(method, config.ours.gate, report.gating);
   if (report.rewinds > 0) {
     spdlog::info("{}: {} late row(s) fused in their place in time (arrived after later ones, within the lag window "
                  "of {} s)",

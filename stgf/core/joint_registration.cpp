@@ -34,12 +34,12 @@ Eigen::Index JointRegistration::add_view(std::string_view view) {
   return start;
 }
 
-void JointRegistration::add_object(const Measurement& first) {
+void JointRegistration::add_object(const Measurement& first, double noise_scale) {
   if (has_object(first.object)) throw std::logic_error("JointRegistration::add_object: object already known");
   const Eigen::Index u = add_view(first.view);
   const Matrix3d& r = first.position.covariance();
   Vector3d mean = first.position.mean();
-  Matrix3d covariance = r;
+  Matrix3d covariance = noise_scale * r;
   Eigen::MatrixXd cross;  // Σ_{i,·} = −H_u Σ_{u,·}
   if (u >= 0) {
     const Matrix36 h = offset_jacobian(r);
@@ -86,11 +86,11 @@ void JointRegistration::predict(std::string_view object, const Vector3d& displac
   covariance_.block<3, 3>(i, i) += process_noise;
 }
 
-JointRegistration::Innovation JointRegistration::innovation(const Measurement& measurement) const {
+JointRegistration::Innovation JointRegistration::innovation(const Measurement& measurement, double noise_scale) const {
   const Eigen::Index i = objects_.find(measurement.object)->second;
   const Eigen::Index u = view_index(measurement.view);
   const Matrix3d& r = measurement.position.covariance();
-  Innovation result{measurement.position.mean() - mean_.segment<3>(i), covariance_.block<3, 3>(i, i) + r};
+  Innovation result{measurement.position.mean() - mean_.segment<3>(i), covariance_.block<3, 3>(i, i) + noise_scale * r};
   if (!prior_.is_zero()) {
     const Matrix36 h = offset_jacobian(r);
     if (u < 0) {
@@ -105,7 +105,7 @@ JointRegistration::Innovation JointRegistration::innovation(const Measurement& m
   return result;
 }
 
-void JointRegistration::update(const Measurement& measurement) {
+void JointRegistration::update(const Measurement& measurement, double noise_scale) {
   const auto found = objects_.find(measurement.object);
   if (found == objects_.end()) throw std::logic_error("JointRegistration::update: unknown object");
   const Eigen::Index i = found->second;
@@ -120,7 +120,7 @@ void JointRegistration::update(const Measurement& measurement) {
     a.noalias() += covariance_.middleCols<6>(u) * h.transpose();
     innovation -= h * mean_.segment<6>(u);
   }
-  Matrix3d s = a.middleRows<3>(i) + r;
+  Matrix3d s = a.middleRows<3>(i) + noise_scale * r;
   if (u >= 0) s += h * a.middleRows<6>(u);
   const Eigen::LLT<Matrix3d> factor(symmetrised(s));
   if (factor.info() != Eigen::Success) throw std::runtime_error("registration: innovation covariance not positive definite");
@@ -130,14 +130,15 @@ void JointRegistration::update(const Measurement& measurement) {
   covariance_ = 0.5 * (covariance_ + covariance_.transpose()).eval();
 }
 
-Gaussian3 JointRegistration::corrected(const Measurement& measurement) const {
+Gaussian3 JointRegistration::corrected(const Measurement& measurement, double noise_scale) const {
   const Eigen::Index u = view_index(measurement.view);
   const Matrix3d& r = measurement.position.covariance();
-  if (prior_.is_zero()) return measurement.position;
+  if (prior_.is_zero() && noise_scale == 1.0) return measurement.position;
+  if (prior_.is_zero()) return Gaussian3::from_covariance(measurement.position.mean(), noise_scale * r);
   const Matrix36 h = offset_jacobian(r);
   const Eigen::Matrix<double, 6, 1> offset = u < 0 ? Eigen::Matrix<double, 6, 1>::Zero() : Eigen::Matrix<double, 6, 1>(mean_.segment<6>(u));
   const Eigen::Matrix<double, 6, 6> spread = u < 0 ? prior_covariance_ : Eigen::Matrix<double, 6, 6>(covariance_.block<6, 6>(u, u));
-  return Gaussian3::from_covariance(measurement.position.mean() - h * offset, r + h * spread * h.transpose());
+  return Gaussian3::from_covariance(measurement.position.mean() - h * offset, noise_scale * r + h * spread * h.transpose());
 }
 
 Gaussian3 JointRegistration::position(std::string_view object) const {

@@ -43,8 +43,11 @@ class JointRegistration {
   explicit JointRegistration(const RegistrationPrior& prior);
 
   bool has_object(std::string_view object) const { return objects_.contains(object); }
+  // `noise_scale` μ ≥ 1 below: the measurement's noise is μ R (view_noise_scales.hpp); its offset
+  // model H_u stays that of the stated R.
+
   // Starts the object from its first measurement (diffuse); adds the view if new.
-  void add_object(const Measurement& first);
+  void add_object(const Measurement& first, double noise_scale = 1.0);
   void remove_object(std::string_view object);
   // p_i += displacement, Σ_ii += process_noise.
   void predict(std::string_view object, const Vector3d& displacement, const Matrix3d& process_noise);
@@ -54,13 +57,13 @@ class JointRegistration {
     Vector3d value;
     Matrix3d covariance;
   };
-  Innovation innovation(const Measurement& measurement) const;
+  Innovation innovation(const Measurement& measurement, double noise_scale = 1.0) const;
   // The Kalman update with one measurement of a known object; adds the view if new.
-  void update(const Measurement& measurement);
+  void update(const Measurement& measurement, double noise_scale = 1.0);
 
   Gaussian3 position(std::string_view object) const;  // the marginal of p_i
-  // A measurement alone, corrected by its view's offset: N(z − H_u β̂_u, R + H_u Σ_uu H_uᵀ).
-  Gaussian3 corrected(const Measurement& measurement) const;
+  // A measurement alone, corrected by its view's offset: N(z − H_u β̂_u, μR + H_u Σ_uu H_uᵀ).
+  Gaussian3 corrected(const Measurement& measurement, double noise_scale = 1.0) const;
   // The estimated offset of `view` and its covariance (prior for an unknown view).
   Eigen::Matrix<double, 6, 1> offset(std::string_view view) const;
   Eigen::Matrix<double, 6, 6> offset_covariance(std::string_view view) const;

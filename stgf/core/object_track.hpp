@@ -88,6 +88,12 @@ class ObjectTrack {
   // The state becomes a history position, the frame ends and the forecast is dropped.
   void close_frame(const MotionPredictor& predictor);
 
+  // ── Gating (measurement_gate.hpp) ──
+  // Consecutive times at which every measurement of the object failed the gate.
+  int gated_events() const { return gated_events_; }
+  void count_gated_event() { ++gated_events_; }
+  void reset_gated_events() { gated_events_ = 0; }
+
   // Forgets everything: the object starts again as if never seen.
   void clear() { *this = ObjectTrack(); }
 
@@ -100,6 +106,7 @@ class ObjectTrack {
   std::deque<TrackPoint> history_;  // oldest first
   std::optional<MotionForecast> forecast_;
   std::optional<double> frame_time_;
+  int gated_events_ = 0;
 };
 
 }  // namespace stgf

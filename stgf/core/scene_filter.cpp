@@ -29,7 +29,8 @@ bool row_before(const Measurement& a, const Measurement& b) {
 SceneFilter::SceneFilter(const MotionPredictor& predictor, const FilterOptions& options)
     : predictor_(predictor),
       options_(options),
-      state_{{}, ViewRegistration(options.registration), JointRegistration(options.registration), {}, 0},
+      gate_(options.gate),
+      state_{{}, ViewRegistration(options.registration), JointRegistration(options.registration), {}, {}, 0, 0},
       latest_time_(-std::numeric_limits<double>::infinity()) {
   if (!std::isfinite(options.lag_window) || options.lag_window < 0.0) {
     throw std::invalid_argument("the lag window must be finite and >= 0 seconds");
@@ -110,7 +111,7 @@ void SceneFilter::leave_out(const Measurement& measurement, std::size_t id) {
   const Gaussian3 estimate = joint()                      ? state_.joint.corrected(measurement)
                              : state_.registration.active() ? state_.registration.combine(std::span(&alone, 1))
                                                             : measurement.position;
-  results_.push_back(Result{id, estimate, std::nullopt});
+  results_.push_back(Result{id, estimate, std::nullopt, false});
   ++late_measurements_;
 }
 
@@ -243,46 +244,120 @@ Eigen::Matrix<double, 6, 1> SceneFilter::registration_offset(std::string_view vi
   return joint() ? state_.joint.offset(view) : state_.registration.offset(view);
 }
 
+void SceneFilter::learn_view_noise(std::span<const Row> rows, const std::vector<Gaussian3>& alone,
+                                   const std::vector<bool>& passes, double time) {
+  if (!gate_.enabled() || rows.size() < 2) return;
+  for (std::size_t u = 0; u < rows.size(); ++u) {
+    InformationSum others;
+    for (std::size_t j = 0; j < rows.size(); ++j) {
+      if (j != u && passes[j]) others.add(alone[j]);
+    }
+    if (others.count() == 0) continue;
+    const Gaussian3 mean = others.solve();
+    const Measurement& measurement = rows[u].measurement;
+    const Matrix3d& noise = measurement.position.covariance();
+    const Matrix3d covariance = alone[u].covariance() + mean.covariance();
+    state_.view_noise.add(measurement.view, time, alone[u].mean() - mean.mean(),
+                          covariance - noise_scale(measurement.view) * noise, noise);
+  }
+}
+
+double SceneFilter::noise_scale(std::string_view view) const {
+  return gate_.enabled() ? state_.view_noise.scale(view) : 1.0;
+}
+
 void SceneFilter::process_joint(Event& event) {
   const double time = event.time;
   const ProcessNoiseScale scale = state_.process_noise_scale;  // λ from the earlier events
+  ViewNoiseScales& view_noise = state_.view_noise;
   for (std::size_t first = 0; first < event.rows.size();) {
     const std::string& object = event.rows[first].measurement.object;
     std::size_t end = first;
     while (end < event.rows.size() && event.rows[end].measurement.object == object) ++end;
-    ObjectTrack& track = state_.tracks[key_of(event.rows[first].measurement)];
-    std::size_t next = first;
+    const std::span<Row> rows(event.rows.data() + first, end - first);
+    ObjectTrack& track = state_.tracks[key_of(rows.front().measurement)];
+    std::vector<Gaussian3> alone;  // each measurement alone, corrected for its view's offset
+    for (const Row& row : rows) alone.push_back(state_.joint.corrected(row.measurement, noise_scale(row.measurement.view)));
     std::optional<TrackPrediction> prediction;
-    if (track.empty()) {
-      state_.joint.remove_object(object);  // a track that started again
-      state_.joint.add_object(event.rows[next++].measurement);
-    } else {
-      const ObjectTrack::Motion motion = track.motion_to(time, predictor_, scale);
+    std::optional<ObjectTrack::Motion> motion;
+    std::vector<JointRegistration::Innovation> innovations;  // against the prediction, when gated by it
+    std::vector<double> distances;
+    if (!track.empty()) {
+      motion = track.motion_to(time, predictor_, scale);
       const Matrix3d state_covariance = state_.joint.position(object).covariance();
-      state_.joint.predict(object, motion.displacement, motion.covariance);
-      prediction = TrackPrediction{state_.joint.position(object), state_covariance, motion.process_noise,
-                                   motion.interval, track.history().size()};
-      if (!track.has_frame() && track.history().size() >= 2 && options_.adapt_process_noise) {
-        const JointRegistration::Innovation innovation = state_.joint.innovation(event.rows[first].measurement);
-        state_.process_noise_scale.add(innovation.value, innovation.covariance - motion.covariance,
-                                       motion.process_noise);
+      state_.joint.predict(object, motion->displacement, motion->covariance);
+      prediction = TrackPrediction{state_.joint.position(object), state_covariance, motion->process_noise,
+                                   motion->interval, track.history().size()};
+      if (track.history().size() >= 2 && (gate_.enabled() || (!track.has_frame() && options_.adapt_process_noise))) {
+        for (const Row& row : rows) {
+          innovations.push_back(state_.joint.innovation(row.measurement, noise_scale(row.measurement.view)));
+        }
+      }
+      if (gate_.enabled() && track.history().size() >= 2) {
+        for (const JointRegistration::Innovation& innovation : innovations) {
+          distances.push_back(distance_squared(innovation.value, innovation.covariance));
+        }
       }
     }
-    for (; next < end; ++next) state_.joint.update(event.rows[next].measurement);
+    const MeasurementGate::Decision decision = gate_.decide(distances, alone, track.gated_events());
+    for (std::size_t k = 0; k < rows.size() && decision.checked; ++k) {
+      view_noise.count(rows[k].measurement.view, decision.passes[k]);
+    }
+    learn_view_noise(rows, alone, decision.passes, time);
+    if (decision.restart) {
+      // Every measurement disagrees with the prediction: the track is what is wrong.
+      track.clear();
+      ++state_.restarted_tracks;
+      ++state_.gate_restarts;
+      prediction.reset();
+    }
+    bool any_passed = false;
+    if (track.empty()) {
+      // A diffuse start from the anchor, then the measurements that agree with it.
+      const Measurement& anchor = rows[decision.anchor].measurement;
+      state_.joint.remove_object(object);
+      state_.joint.add_object(anchor, noise_scale(anchor.view));
+      for (std::size_t k = 0; k < rows.size(); ++k) {
+        if (decision.passes[k] && k != decision.anchor) state_.joint.update(rows[k].measurement, noise_scale(rows[k].measurement.view));
+      }
+      any_passed = true;
+    } else {
+      bool taught_process_noise = false;
+      for (std::size_t k = 0; k < rows.size(); ++k) {
+        if (!decision.passes[k]) continue;
+        // The first fused measurement of a frame teaches the scale of Q, with its innovation against
+        // the prediction.
+        if (!taught_process_noise && !track.has_frame() && track.history().size() >= 2 &&
+            options_.adapt_process_noise) {
+          state_.process_noise_scale.add(innovations[k].value, innovations[k].covariance - motion->covariance,
+                                         motion->process_noise);
+          taught_process_noise = true;
+        }
+        state_.joint.update(rows[k].measurement, noise_scale(rows[k].measurement.view));
+        any_passed = true;
+      }
+    }
+    if (any_passed) {
+      track.reset_gated_events();
+    } else {
+      track.count_gated_event();
+    }
+    std::vector<bool> gated(rows.size());
+    for (std::size_t k = 0; k < rows.size(); ++k) gated[k] = !decision.passes[k];
     const Gaussian3 fused = state_.joint.position(object);
     if (!track.has_frame()) track.open_frame(time);
     track.update(time, fused);
-    report(event, first, end, fused, prediction);
+    report(event, first, end, fused, prediction, gated);
     first = end;
   }
 }
 
 void SceneFilter::report(Event& event, std::size_t first, std::size_t end, const Gaussian3& estimate,
-                         const std::optional<TrackPrediction>& prediction) {
+                         const std::optional<TrackPrediction>& prediction, const std::vector<bool>& gated) {
   for (std::size_t k = first; k < end; ++k) {
     Row& row = event.rows[k];
     if (row.reported) continue;
-    results_.push_back(Result{row.id, estimate, prediction});
+    results_.push_back(Result{row.id, estimate, prediction, gated[k - first]});
     row.reported = true;
   }
 }
@@ -294,59 +369,126 @@ void SceneFilter::process(Event& event) {
   }
   const double time = event.time;
   const ProcessNoiseScale scale = state_.process_noise_scale;  // λ from the earlier events
+  ViewNoiseScales& view_noise = state_.view_noise;
   struct Innovation {
     Vector3d value;
     Matrix3d known_covariance;  // P̂_s + R
     Matrix3d process_noise;     // Q(τ) − Q(τ_s)
   };
   std::vector<Innovation> innovations;
+  std::vector<const Measurement*> fused_rows;  // every measurement that passed the gate
   const bool registration = state_.registration.active();
   for (std::size_t first = 0; first < event.rows.size();) {
     const std::string& object = event.rows[first].measurement.object;
     std::size_t end = first;
     while (end < event.rows.size() && event.rows[end].measurement.object == object) ++end;
+    // The rows with their noise scaled by their views' μ, each alone corrected for its view's offset.
+    std::vector<Measurement> scaled;
+    std::vector<Gaussian3> alone;
+    for (std::size_t k = first; k < end; ++k) {
+      Measurement measurement = event.rows[k].measurement;
+      const double view_scale = noise_scale(measurement.view);
+      if (view_scale != 1.0) {
+        measurement.position = Gaussian3::from_covariance(measurement.position.mean(),
+                                                          view_scale * measurement.position.covariance());
+      }
+      scaled.push_back(std::move(measurement));
+    }
+    for (const Measurement& measurement : scaled) {
+      const Measurement* single = &measurement;
+      alone.push_back(registration ? state_.registration.combine(std::span(&single, 1)) : measurement.position);
+    }
+    // kPerObject: one track for all rows; kPerView: one per row. The gate checks each row against the
+    // prediction of the first of them that has one.
+    const std::size_t track_count = options_.tracks == TrackMode::kPerObject ? 1 : end - first;
+    ObjectTrack* reference = nullptr;
+    std::optional<TrackPrediction> reference_prediction;
+    for (std::size_t t = 0; t < track_count && !reference; ++t) {
+      ObjectTrack& track = state_.tracks[key_of(event.rows[first + t].measurement)];
+      if (!track.empty()) reference = &track;
+    }
+    std::vector<double> distances;
+    if (reference) {
+      reference_prediction = reference->predict(time, predictor_, scale);
+      if (gate_.enabled() && reference->history().size() >= 2) {
+        for (std::size_t k = first; k < end; ++k) {
+          const Vector3d innovation = alone[k - first].mean() - reference_prediction->prior.mean();
+          distances.push_back(distance_squared(innovation, reference_prediction->prior.covariance() + alone[k - first].covariance()));
+        }
+      }
+    }
+    const MeasurementGate::Decision decision =
+        gate_.decide(distances, alone, reference ? reference->gated_events() : 0);
+    std::vector<bool> gated(end - first);
+    for (std::size_t k = first; k < end; ++k) {
+      gated[k - first] = !decision.passes[k - first];
+      if (decision.checked) view_noise.count(event.rows[k].measurement.view, decision.passes[k - first]);
+    }
+    learn_view_noise(std::span(event.rows.data() + first, end - first), alone, decision.passes, time);
+    if (decision.restart) {
+      for (std::size_t t = 0; t < track_count; ++t) state_.tracks[key_of(event.rows[first + t].measurement)].clear();
+      ++state_.restarted_tracks;
+      ++state_.gate_restarts;
+      reference = nullptr;
+      reference_prediction.reset();
+    }
+    if (reference) {
+      if (std::find(gated.begin(), gated.end(), false) != gated.end()) {
+        reference->reset_gated_events();
+      } else {
+        reference->count_gated_event();
+      }
+    }
     std::vector<const Measurement*> rows;
     std::vector<Gaussian3> positions;
     for (std::size_t k = first; k < end; ++k) {
-      rows.push_back(&event.rows[k].measurement);
-      positions.push_back(event.rows[k].measurement.position);
+      if (gated[k - first]) continue;
+      rows.push_back(&scaled[k - first]);
+      positions.push_back(scaled[k - first].position);
+      fused_rows.push_back(&event.rows[k].measurement);
     }
-    // One combined measurement: corrected for the registration offsets when there are any to account
-    // for, else the information-weighted mean (then used for the innovation and a diffuse start).
-    const Gaussian3 combined = registration ? state_.registration.combine(rows) : information_weighted_mean(positions);
+    // One combined measurement of those that passed: corrected for the registration offsets when
+    // there are any to account for, else the information-weighted mean (then used for the innovation
+    // and a diffuse start). None passed: the tracks keep their predictions.
+    std::optional<Gaussian3> combined;
+    if (!rows.empty()) {
+      combined = registration ? state_.registration.combine(rows) : information_weighted_mean(positions);
+    }
     std::optional<Innovation> innovation;
-    // kPerObject: one track for all rows; kPerView: one per row.
-    const std::size_t track_count = options_.tracks == TrackMode::kPerObject ? 1 : end - first;
     for (std::size_t t = 0; t < track_count; ++t) {
       ObjectTrack& track = state_.tracks[key_of(event.rows[first + t].measurement)];
       std::optional<TrackPrediction> prediction;
       if (!track.empty()) prediction = track.predict(time, predictor_, scale);
+      if (!prediction && !combined) {
+        // kPerView: this view's track is empty and every measurement failed the gate against another
+        // view's track: nothing to start it from; the row gets that track's prediction.
+        report(event, first + t, first + t + 1, reference_prediction->prior, reference_prediction,
+               {gated.begin() + t, gated.begin() + t + 1});
+        continue;
+      }
       // The diffuse start is the limit P⁻¹ → 0 of the update: the combined measurement itself.
-      const Gaussian3 fused = !prediction   ? combined
-                              : registration ? multi_view_update(prediction->prior, std::span(&combined, 1))
+      const Gaussian3 fused = !prediction  ? *combined
+                              : !combined   ? prediction->prior
+                              : registration ? multi_view_update(prediction->prior, std::span(&*combined, 1))
                                              : multi_view_update(prediction->prior, positions);
       const bool opens_frame = !track.has_frame();
-      if (opens_frame && prediction && prediction->history_positions >= 2 && options_.adapt_process_noise &&
-          !innovation) {
-        innovation = Innovation{combined.mean() - prediction->prior.mean(),
-                                prediction->state_covariance + combined.covariance(), prediction->process_noise};
+      if (opens_frame && prediction && combined && prediction->history_positions >= 2 &&
+          options_.adapt_process_noise && !innovation) {
+        innovation = Innovation{combined->mean() - prediction->prior.mean(),
+                                prediction->state_covariance + combined->covariance(), prediction->process_noise};
       }
       if (opens_frame) track.open_frame(time);
       track.update(time, fused);
       if (options_.tracks == TrackMode::kPerObject) {
-        report(event, first, end, fused, prediction);
+        report(event, first, end, fused, prediction, gated);
       } else {
-        report(event, first + t, first + t + 1, fused, prediction);
+        report(event, first + t, first + t + 1, fused, prediction, {gated.begin() + t, gated.begin() + t + 1});
       }
     }
     if (innovation) innovations.push_back(*innovation);
     first = end;
   }
-  if (options_.tracks == TrackMode::kPerView && registration) {
-    std::vector<const Measurement*> measurements;
-    for (const Row& row : event.rows) measurements.push_back(&row.measurement);
-    state_.registration.learn(measurements);
-  }
+  if (options_.tracks == TrackMode::kPerView && registration) state_.registration.learn(fused_rows);
   for (const Innovation& innovation : innovations) {
     state_.process_noise_scale.add(innovation.value, innovation.known_covariance, innovation.process_noise);
   }

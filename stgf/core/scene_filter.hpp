@@ -66,9 +66,11 @@
 #include <vector>
 
 #include "stgf/core/joint_registration.hpp"
+#include "stgf/core/measurement_gate.hpp"
 #include "stgf/core/object_track.hpp"
 #include "stgf/core/process_noise_scale.hpp"
 #include "stgf/core/records.hpp"
+#include "stgf/core/view_noise_scales.hpp"
 #include "stgf/core/view_registration.hpp"
 
 namespace stgf {
@@ -82,6 +84,7 @@ struct FilterOptions {
   TrackMode tracks = TrackMode::kPerObject;
   double lag_window = 1.0;                  // s: how late a measurement may come and still count
   LatePolicy late = LatePolicy::kLeaveOut;  // what happens to one that comes later
+  GateOptions gate;                         // the χ² gate and the views' noise scales
 };
 
 // Event time between checkpoints (s).
@@ -121,6 +124,7 @@ class SceneFilter {
     Gaussian3 estimate;
     // What the track predicted for it before the update; none: diffuse start, or left out as too late.
     std::optional<TrackPrediction> prediction;
+    bool gated = false;  // it failed the gate and was not fused (`estimate` is from the rest)
   };
   // The results of measurements processed since the last call, in processing order.
   std::vector<Result> take_results();
@@ -128,6 +132,10 @@ class SceneFilter {
   std::size_t restarted_tracks() const { return state_.restarted_tracks; }
   std::size_t late_measurements() const { return late_measurements_; }  // too late for the window
   std::size_t rewinds() const { return rewinds_; }                      // went back for a late measurement
+  // What the gate did (measurement_gate.hpp, view_noise_scales.hpp), and the tracks it restarted
+  // (counted in restarted_tracks() too).
+  const ViewNoiseScales& view_noise_scales() const { return state_.view_noise; }
+  std::size_t gate_restarts() const { return state_.gate_restarts; }
   const Vector3d& process_noise_scales() const { return state_.process_noise_scale.scales(); }
   // The estimated registration offset of a view (t, δ; zero for a zero prior or an unknown view).
   Eigen::Matrix<double, 6, 1> registration_offset(std::string_view view) const;
@@ -152,7 +160,9 @@ class SceneFilter {
     ViewRegistration registration;  // kPerView
     JointRegistration joint;        // kPerObject, with a registration prior
     ProcessNoiseScale process_noise_scale;
+    ViewNoiseScales view_noise;
     std::size_t restarted_tracks = 0;
+    std::size_t gate_restarts = 0;
   };
   struct Checkpoint {
     double time;  // replays the events at or after this time
@@ -167,7 +177,13 @@ class SceneFilter {
   void close_frames(double time);
   // The rows [first, end) of `event` that have not reported yet report `estimate` (and `prediction`).
   void report(Event& event, std::size_t first, std::size_t end, const Gaussian3& estimate,
-              const std::optional<TrackPrediction>& prediction);
+              const std::optional<TrackPrediction>& prediction, const std::vector<bool>& gated);
+  double noise_scale(std::string_view view) const;  // μ of the view; 1 without the gate
+  // Teaches the views' noise scales from one object's measurements at one time (`alone`: each
+  // corrected for its view's offset, with its μ): each against the information-weighted mean of the
+  // others that passed the gate — its disagreement with the other views, not with the track.
+  void learn_view_noise(std::span<const Row> rows, const std::vector<Gaussian3>& alone, const std::vector<bool>& passes,
+                        double time);
   bool joint() const { return options_.tracks == TrackMode::kPerObject && state_.joint.active(); }
   void process_joint(Event& event);
   void process(Event& event);
@@ -176,6 +192,7 @@ class SceneFilter {
 
   const MotionPredictor& predictor_;
   FilterOptions options_;
+  MeasurementGate gate_;
   State state_;
   std::deque<Event> queue_;   // to process, time order
   std::deque<Event> log_;     // processed, time order, back to the oldest checkpoint

@@ -52,6 +52,28 @@ double positive_number(const std::string& path, const std::string& key, const YA
   return value;
 }
 
+bool boolean(const std::string& path, const std::string& key, const YAML::Node& node) {
+  try {
+    return node.as<bool>();
+  } catch (const YAML::Exception&) {
+    throw InputError(path, line_of(node), key + " must be true or false");
+  }
+}
+
+// The gate's keys (measurement_gate.hpp), in any method's section: true when `key` was one.
+bool read_gate_key(const std::string& path, const std::string& key, const std::string& name, const YAML::Node& value,
+                   GateOptions& gate) {
+  if (key == "gate") {
+    gate.enabled = boolean(path, name, value);
+  } else if (key == "gate_probability") {
+    gate.probability = positive_number(path, name, value);
+    if (gate.probability >= 1.0) throw InputError(path, line_of(value), name + " must be below 1 (e.g. 0.999)");
+  } else {
+    return false;
+  }
+  return true;
+}
+
 void read_mmt(const std::string& path, const YAML::Node& node, ConstantVelocityModel& model) {
   if (node.IsNull()) return;  // a section whose keys are all commented out
   if (!node.IsMap()) throw InputError(path, line_of(node), "mmt must be a mapping of settings");
@@ -131,6 +153,7 @@ void read_ours(const std::string& path, const YAML::Node& node, OursSettings& se
       settings.lag_window = non_negative_number(path, name, entry.second);
     } else if (key == "late_measurements") {
       settings.stop_on_late = one_of(path, name, entry.second, {"leave-out", "stop"}) == "stop";
+    } else if (read_gate_key(path, key, name, entry.second, settings.gate)) {
     } else {
       throw InputError(path, line_of(entry.first), "unknown setting " + quoted_excerpt(name));
     }

@@ -30,6 +30,7 @@ FilterOptions filter_options_for(const OursSettings& settings, const nlohmann::j
   options.tracks = settings.per_view_tracks ? TrackMode::kPerView : TrackMode::kPerObject;
   options.lag_window = settings.lag_window;
   options.late = settings.stop_on_late ? LatePolicy::kStop : LatePolicy::kLeaveOut;
+  options.gate = settings.gate;
   return options;
 }
 
@@ -49,6 +50,7 @@ std::vector<Gaussian3> run_named_method(const std::string& method, const MethodC
   out.restarted_tracks = run.restarted_tracks;
   out.rewinds = run.rewinds;
   out.late_measurements = run.late_measurements;
+  out.gating = std::move(run.gating);
   if (prediction_only) {
     for (std::size_t row = 0; row < rows.size(); ++row) {
       if (const auto& prediction = run.predictions[row]) run.estimates[row] = prediction->prior;

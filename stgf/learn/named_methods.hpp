@@ -10,6 +10,7 @@
 #include <nlohmann/json.hpp>
 
 #include "stgf/core/records.hpp"
+#include "stgf/core/view_noise_scales.hpp"
 #include "stgf/core/scene_filter.hpp"
 #include "stgf/learn/motion_model.hpp"
 #include "stgf/methods/registry.hpp"
@@ -32,6 +33,7 @@ struct MethodRunReport {
   std::size_t rewinds = 0;            // late rows fused in their place in time
   std::size_t late_measurements = 0;  // rows later than the lag window, left out of the fusion
   bool registration_missing = false;  // the model holds no registration calibration (offsets taken as zero)
+  GatingSummary gating;               // what the χ² gate did (its restarts are in restarted_tracks too)
 };
 
 // One estimate per row, in order. `model` is required for the learned methods (std::invalid_argument

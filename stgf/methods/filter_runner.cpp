@@ -42,6 +42,7 @@ std::vector<std::vector<std::size_t>> deliveries_of(const Scene& scene, std::spa
 }
 
 struct SceneRun {
+  std::string name;
   std::unique_ptr<SceneFilter> filter;
   std::vector<std::vector<std::size_t>> deliveries;
   std::size_t next = 0;
@@ -61,7 +62,8 @@ void run_block(const MotionPredictor& predictor, const FilterOptions& options, s
   std::vector<SceneRun> block;
   block.reserve(scenes.size());
   for (const Scene& scene : scenes) {
-    block.push_back({std::make_unique<SceneFilter>(predictor, options), deliveries_of(scene, measurements, by_arrival), 0});
+    block.push_back(
+        {scene.name, std::make_unique<SceneFilter>(predictor, options), deliveries_of(scene, measurements, by_arrival), 0});
   }
   std::vector<const Measurement*> delivered;
   for (;;) {
@@ -107,6 +109,8 @@ void run_block(const MotionPredictor& predictor, const FilterOptions& options, s
     run.restarted_tracks += scene.filter->restarted_tracks();
     run.late_measurements += scene.filter->late_measurements();
     run.rewinds += scene.filter->rewinds();
+    run.gating.add(scene.name, scene.filter->view_noise_scales());
+    run.gating.restarts += scene.filter->gate_restarts();
   }
 }
 

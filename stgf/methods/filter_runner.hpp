@@ -30,6 +30,7 @@ struct FilterRun {
   std::size_t restarted_tracks = 0;    // summed over the scenes
   std::size_t late_measurements = 0;   // too late for the lag window
   std::size_t rewinds = 0;             // late rows fused in their place in time
+  GatingSummary gating;                // what the gate did (its restarts are in restarted_tracks too)
 };
 
 // Throws std::invalid_argument when some rows have an arrival time and others not.

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "stgf/core/constant_velocity_filter.hpp"
+#include "stgf/core/measurement_gate.hpp"
 #include "stgf/methods/localizer.hpp"
 
 namespace stgf {
@@ -22,6 +23,7 @@ struct OursSettings {
   bool per_view_tracks = false;               // the paper's per-view tracks instead of one per object
   double lag_window = 1.0;                    // s: how late a message may arrive and still be fused in place
   bool stop_on_late = false;                  // a message later than that: stop (true) or leave it out
+  GateOptions gate;                           // the χ² gate and the views' noise scales (on)
 };
 
 // Settings of every method, read from the YAML config (see config/methods.yaml).

@@ -52,6 +52,9 @@ class SpatiotemporalGraphFilter final : public Localizer {
   std::size_t late_measurements() const { return filter_.late_measurements(); }
   std::size_t rewinds() const { return filter_.rewinds(); }  // went back in time for a late measurement
   const Vector3d& process_noise_scales() const { return filter_.process_noise_scales(); }
+  // What the χ² gate did (core/measurement_gate.hpp, core/view_noise_scales.hpp).
+  const ViewNoiseScales& view_noise_scales() const { return filter_.view_noise_scales(); }
+  std::size_t gate_restarts() const { return filter_.gate_restarts(); }
   // The estimated registration offset (t, δ) of a view (view_registration.hpp).
   Eigen::Matrix<double, 6, 1> registration_offset(std::string_view view) const { return filter_.registration_offset(view); }
 

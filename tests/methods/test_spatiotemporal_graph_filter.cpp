@@ -113,7 +113,11 @@ TEST(SpatiotemporalGraphFilter, ViewJoiningMidSceneStartsFromTheMeasurements) {
 // Within the horizon the track carries on.
 TEST(SpatiotemporalGraphFilter, TrackUnseenBeyondTheHorizonStartsAgain) {
   const ConstantVelocityPredictor predictor(0.1, 1.0, /*horizon=*/0.5);
-  SpatiotemporalGraphFilter filter(predictor, {RegistrationPrior{}, false});
+  // Without the gate: this predictor's typical speed (1 m/s) is far below the object's (10 m/s), so
+  // the gate would (rightly) restart the track for that before the horizon does.
+  FilterOptions options{RegistrationPrior{}, false};
+  options.gate.enabled = false;
+  SpatiotemporalGraphFilter filter(predictor, options);
   const Matrix3d r = 0.01 * Matrix3d::Identity();
   for (int k = 0; k < 3; ++k) step(filter, 0.1 * k, {measurement(0.1 * k, "v", "o", Vector3d(k, 0, 0), r)});  // 10 m/s
   const auto within = step(filter, 0.6, {measurement(0.6, "v", "o", Vector3d(6, 0, 0), r)});  // 0.4 s later
@@ -167,7 +171,11 @@ TEST(SpatiotemporalGraphFilter, EstimatesDoNotDependOnWhereTheWorldOriginIs) {
 // predictions and its NEES explodes.
 TEST(SpatiotemporalGraphFilter, AdaptsQWhenPredictionsAreWorseThanItSays) {
   const ConstantVelocityPredictor predictor(1e-4, 1.0);
-  SpatiotemporalGraphFilter adaptive(predictor), fixed(predictor, {RegistrationPrior{}, false});
+  // Without the gate, which would leave out the measurements that Q says are impossible (and restart
+  // the track): this is about what the adaptation learns from all of them.
+  FilterOptions adaptive_options, fixed_options{RegistrationPrior{}, false};
+  adaptive_options.gate.enabled = fixed_options.gate.enabled = false;
+  SpatiotemporalGraphFilter adaptive(predictor, adaptive_options), fixed(predictor, fixed_options);
   std::mt19937_64 random(9);
   std::normal_distribution<double> normal;
   const Matrix3d r = 0.01 * Matrix3d::Identity();
@@ -196,4 +204,45 @@ TEST(SpatiotemporalGraphFilter, AdaptsQWhenPredictionsAreWorseThanItSays) {
   EXPECT_GT(nees_fixed / count, 50.0);
 }
 
+}  // namespace stgf
+
+namespace stgf {
+namespace {
+
+// Three views watch an object walking a straight line; at one time view "b" reports it 10 m off. With
+// the gate (the default) that measurement is left out, counted, and the estimate stays on the object;
+// without, it drags the estimate most of a metre away.
+TEST(SpatiotemporalGraphFilter, GatesAGrossErrorOfOneView) {
+  const ConstantVelocityPredictor predictor(0.01, 1.0);
+  FilterOptions without_gate;
+  without_gate.gate.enabled = false;
+  SpatiotemporalGraphFilter gated(predictor), ungated(predictor, without_gate);
+  std::mt19937_64 random(5);
+  std::normal_distribution<double> normal;
+  const Matrix3d r = 0.01 * Matrix3d::Identity();
+  for (int k = 0; k < 20; ++k) {
+    const double t = 0.1 * k;
+    const Vector3d truth(1.0 * t, 0.5 * t, 0.0);
+    std::vector<Measurement> rows;
+    for (const char* view : {"a", "b", "c"}) {
+      Vector3d z = truth + 0.1 * Vector3d(normal(random), normal(random), normal(random));
+      if (k == 12 && std::string(view) == "b") z.x() += 10.0;
+      rows.push_back(Measurement{"s", t, view, "o", Gaussian3::from_covariance(z, r), std::nullopt});
+    }
+    const Gaussian3 with = step(gated, t, rows)[0];
+    const Gaussian3 without = step(ungated, t, rows)[0];
+    if (k == 12) {
+      EXPECT_LT((with.mean() - truth).norm(), 0.3);
+      EXPECT_GT((without.mean() - truth).norm(), 0.5);
+    }
+  }
+  const auto reports = gated.view_noise_scales().reports();
+  EXPECT_EQ(reports.at("b").gated, 1u);
+  EXPECT_EQ(reports.at("a").gated + reports.at("c").gated, 0u);
+  EXPECT_EQ(reports.at("b").largest_scale, 1.0);  // one gross error is not a faulty view
+  EXPECT_EQ(gated.gate_restarts(), 0u);
+  EXPECT_TRUE(ungated.view_noise_scales().reports().empty());
+}
+
+}  // namespace
 }  // namespace stgf
