@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: Apache-2.0
 #include "gating_log.hpp"
 
+#include <cmath>
 #include <map>
 
 #include <spdlog/spdlog.h>
@@ -29,7 +30,7 @@ void log_gating(const std::string& method, const GateOptions& gate, const Gating
   std::map<std::string, std::size_t> scaled;
   for (const GatingSummary::View& view : summary.views) {
     gated[view.view] += view.report.gated;
-    if (view.report.largest_scale > 1.0) ++scaled[view.view];
+    if (!std::isnan(view.report.first_flagged_time)) ++scaled[view.view];
   }
   if (summary.gated > 0) {
     spdlog::info("{}: {} of {} measurements checked ({:.3f} %) failed the χ² gate at {} (d² > {:.2f}) and were not "
@@ -42,16 +43,19 @@ void log_gating(const std::string& method, const GateOptions& gate, const Gating
   std::size_t shown = 0;
   std::size_t scenes = 0;
   for (const GatingSummary::View& view : summary.views) {
-    if (!(view.report.largest_scale > 1.0)) continue;
+    if (std::isnan(view.report.first_flagged_time)) continue;
     ++scenes;
     if (shown++ >= kShown) continue;
-    spdlog::warn("{}: scene {}: view '{}' disagrees with the rest from t = {:.3f} s (median d² {:.1f} over its last "
-                 "{} measurements, expected {:.2f}): its noise is taken as up to {:.0f} times what it states",
-                 method, view.scene, view.view, view.report.first_raised_time, view.report.raising_median,
-                 ViewNoiseScales::kWindow, ViewNoiseScales::kChiSquare3Median, view.report.largest_scale);
+    spdlog::warn("{}: scene {}: view '{}' disagrees with the other views from t = {:.3f} s (median d² {:.1f} over "
+                 "its last {} measurements, expected {:.2f}): its noise is taken as up to {:.0f} times what it states{}",
+                 method, view.scene, view.view, view.report.first_flagged_time, view.report.flagging_median,
+                 ViewNoiseScales::kWindow, ViewNoiseScales::kChiSquare3Median, view.report.largest_scale,
+                 view.report.offset_releases > 0
+                     ? ", and its offset was re-opened " + std::to_string(view.report.offset_releases) + " time(s)"
+                     : std::string());
   }
   if (scenes > kShown) {
-    spdlog::warn("{}: ... {} (scene, view) pairs in all had their noise scaled up; by view: {}", method, scenes,
+    spdlog::warn("{}: ... {} (scene, view) pairs in all were found disagreeing with the other views; by view: {}", method, scenes,
                  by_view(scaled));
   }
   if (summary.restarts > 0) {

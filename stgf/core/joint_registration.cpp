@@ -86,6 +86,12 @@ void JointRegistration::predict(std::string_view object, const Vector3d& displac
   covariance_.block<3, 3>(i, i) += process_noise;
 }
 
+void JointRegistration::release_offset(std::string_view view, const Matrix3d& covariance) {
+  const Eigen::Index u = view_index(view);
+  if (u < 0) return;
+  covariance_.block<3, 3>(u, u) += symmetrised(covariance);
+}
+
 JointRegistration::Innovation JointRegistration::innovation(const Measurement& measurement, double noise_scale) const {
   const Eigen::Index i = objects_.find(measurement.object)->second;
   const Eigen::Index u = view_index(measurement.view);

@@ -49,6 +49,9 @@ class JointRegistration {
   // Starts the object from its first measurement (diffuse); adds the view if new.
   void add_object(const Measurement& first, double noise_scale = 1.0);
   void remove_object(std::string_view object);
+  // Σ_tt += covariance on the view's translation offset t_u: its calibration may have changed (a
+  // jump), by about that much. Nothing for an unknown view or a zero prior.
+  void release_offset(std::string_view view, const Matrix3d& covariance);
   // p_i += displacement, Σ_ii += process_noise.
   void predict(std::string_view object, const Vector3d& displacement, const Matrix3d& process_noise);
 

@@ -75,7 +75,7 @@ void feed(ViewNoiseScales& scales, const std::string& view, double factor, int c
     const double sd = std::sqrt(0.04 * factor + 0.01);
     Vector3d innovation(sd * normal(random), sd * normal(random), sd * normal(random));
     if (uniform(random) < outlier_share) innovation.x() += 10.0;
-    scales.add(view, 0.1 * k, innovation, others, r);
+    scales.add(view, 0.1 * k, innovation, others, r, Matrix3d::Zero());
   }
 }
 
@@ -92,9 +92,9 @@ TEST(ViewNoiseScales, RaisesOnlyTheViewThatUnderstatesItsNoise) {
   EXPECT_EQ(scales.scale("unknown"), 1.0);
   const auto reports = scales.reports();
   EXPECT_EQ(reports.at("good").largest_scale, 1.0);
-  EXPECT_TRUE(std::isnan(reports.at("good").first_raised_time));
+  EXPECT_TRUE(std::isnan(reports.at("good").first_flagged_time));
   EXPECT_GT(reports.at("understated").largest_scale, 30.0);
-  EXPECT_NEAR(reports.at("understated").first_raised_time, 0.1 * (ViewNoiseScales::kWindow - 1), 1e-12);
+  EXPECT_NEAR(reports.at("understated").first_flagged_time, 0.1 * (ViewNoiseScales::kWindow - 1), 1e-12);
 }
 
 TEST(ViewNoiseScales, CountsWhatTheGateChecked) {
