@@ -8,6 +8,7 @@
 #include <spdlog/spdlog.h>
 
 #include "commands.hpp"
+#include "gating_log.hpp"
 #include "input_guard.hpp"
 #include "learned_seam.hpp"
 #include "stgf/core/scene_filter.hpp"
@@ -44,7 +45,14 @@ void run(const RunOptions& options) {
   MeasurementFile measurements = read_measurements(options.measurements);
   std::vector<Gaussian3> positions;
   try {
-    positions = learned ? learned->run(measurements.rows) : run_method(options.method, config, measurements.rows);
+    if (learned) {
+      positions = learned->run(measurements.rows);
+    } else {
+      GatingSummary gating;
+      positions = run_method(options.method, config, measurements.rows, &gating);
+      if (options.method == "wls") log_gating(options.method, config.wls_gate, gating);
+      if (options.method == "mmt") log_gating(options.method, config.mmt_gate, gating);
+    }
   } catch (const LateMeasurementError& late) {
     throw InputError(options.measurements, measurements.lines.at(late.id()), late.what());
   }

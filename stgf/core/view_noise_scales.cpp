@@ -56,12 +56,13 @@ std::optional<Matrix3d> ViewNoiseScales::add(std::string_view name, double time,
       Sample{innovation, prediction_covariance, noise, shared_covariance,
              distance_squared(innovation, prediction_covariance + noise)};
   ++view.samples;
-  if (view.samples < kWindow) return std::nullopt;
+  if (view.samples < kRecent) return std::nullopt;
+  const std::size_t available = std::min(view.samples, kWindow);
   static const double kWindowThreshold = chi_square_3_quantile(0.999);
   static const double kRecentThreshold = chi_square_3_quantile(0.9999);
-  const double median = median_distance_squared(view, 1.0, Vector3d::Zero(), kWindow);
+  const double median = median_distance_squared(view, 1.0, Vector3d::Zero(), available);
   const Typical recent = typical_innovation(view, kRecent);
-  const Typical whole = typical_innovation(view, kWindow);
+  const Typical whole = typical_innovation(view, available);
   const bool recent_bias = distance_squared(recent.median, recent.variance) > kRecentThreshold;
   if (!recent_bias && !(median > kTrigger * kChiSquare3Median) &&
       !(distance_squared(whole.median, whole.variance) > kWindowThreshold)) {
@@ -70,12 +71,14 @@ std::optional<Matrix3d> ViewNoiseScales::add(std::string_view name, double time,
   }
   // The samples μ is solved on, and the bias to centre them on and release: the recent ones and their
   // median when they show the bias (a jump), else the window and its mean.
-  const std::size_t count = recent_bias ? kRecent : kWindow;
+  const std::size_t count = recent_bias ? kRecent : available;
   Vector3d centre = Vector3d::Zero();
   if (separate_bias && recent_bias) {
     centre = recent.median;
   } else if (separate_bias) {
-    for (const Sample& sample : view.window) centre += sample.innovation / static_cast<double>(kWindow);
+    for (std::size_t i = 0; i < available; ++i) {
+      centre += view.window[(view.samples - 1 - i) % kWindow].innovation / static_cast<double>(available);
+    }
   }
   // The smallest grid point 2^(j/2) whose median falls to m₃: bisection over j (m decreases in μ).
   int low = -1;   // below the grid: μ = 1

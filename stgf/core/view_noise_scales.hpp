@@ -1,36 +1,41 @@
 // SPDX-License-Identifier: Apache-2.0
 #pragma once
-// A robust per-view scale on the stated noise, for a view whose measurements keep disagreeing with
-// what the filter predicts from everything else — a camera knocked out of calibration, a detector
-// whose covariance understates its error. One faulty view would otherwise spoil every object it sees:
-// the χ² gate (measurement_gate.hpp) keeps out its grossest errors, but what passes comes with an R
-// that claims far too much.
+// A view that keeps disagreeing with the other views — a camera knocked out of calibration, a detector
+// whose covariance understates its error — would otherwise spoil every object it sees: the χ² gate
+// (measurement_gate.hpp) keeps out its grossest errors, but what passes comes with an R that claims
+// far too much. So each view of a scene gets a noise scale μ_u ≥ 1 (its noise is taken as μ_u R; 1 for
+// a view that behaves), and, when the filter estimates the views' offsets, a way to say that the
+// view's offset has changed.
 //
-// Model: view u's measurements have noise μ_u R (R as stated, μ_u ≥ 1; 1 for a view that behaves).
-// Each measurement of u that has a prediction gives the innovation ν ~ N(0, A + μ_u R), where A is
-// the prediction's share of S (measurement_gate.hpp). For the view's last kWindow such innovations,
-//     d²_k(μ) = ν_kᵀ (A_k + μ R_k)⁻¹ ν_k,     m(μ) = median_k d²_k(μ),
-// and the median of χ²(3) is m₃ = 2.366. The view is taken as faulty when either
-//   - m(1) > kTrigger · m₃: the typical measurement of the view lies where an honest one lands about
-//     12 % of the time — with kWindow = 15, a view that behaves crosses it with probability about 10⁻⁴
-//     per window; or
-//   - its typical innovation ν̄ (the coordinate-wise median of the window, which gross outliers do not
-//     move) is far from zero: ν̄ᵀ V⁻¹ ν̄ > the χ²(3) quantile 0.999, V = mean_k (π/2 (S_k − C_k)/kWindow + C_k),
-//     where C_k is the part of S_k that successive measurements of the view share (its offset's
-//     uncertainty, which does not average out) — a bias (a jump) that is small against the noise of
-//     one measurement but persists; or
-//   - the same holds for its last kRecent = 5 innovations at the χ²(3) quantile 0.9999: a jump shows
-//     within five measurements instead of half a window. Then μ_u is the smallest grid point 2^(j/2), j = 1 … 40, with
-// m(μ_u) ≤ m₃ (m decreases in μ), and 1 again as soon as m(1) falls back below the trigger. The
-// median ignores gross outliers (up to half the window), which the gate handles on their own, and it
-// reacts to a step change (a jump) within half a window.
+// Disagreements. Each measurement of u at a time when other views measure the same object and pass
+// the gate gives ν = z_u − (the others' information-weighted mean), each corrected for its view's
+// offset: ν ~ N(0, A + μ_u R), A the rest of its covariance, of which C is shared by u's successive
+// disagreements (its offset's uncertainty, which does not average out). The view's last kWindow
+// disagreements are kept (all of them, from kRecent on, before it has kWindow). With
+//     d²_k(μ) = ν_kᵀ (A_k + μ R_k)⁻¹ ν_k,   m(μ) = median_k d²_k(μ),   m₃ = 2.366 the median of χ²(3),
+// the view is found disagreeing when any of these holds:
+//   - m(1) > kTrigger · m₃ = 5.9: its typical measurement lies where an honest one lands 12 % of the
+//     time (for kWindow = 15 honest ones, probability about 10⁻⁴);
+//   - ν̃ᵀ V⁻¹ ν̃ > the χ²(3) quantile 0.999, ν̃ the coordinate-wise median of the kept disagreements
+//     (gross outliers do not move it) and V = mean_k (π/2 (S_k − C_k)/n + C_k) its variance, S = A + R:
+//     a bias that is small against one measurement's noise but persists;
+//   - the same for its last kRecent = 5 disagreements at the quantile 0.9999: a jump shows within
+//     five measurements rather than half a window.
+// Then
+//   - with `separate_bias` (the filter estimates offsets, joint_registration.hpp): the bias ν̄ is the
+//     median of the last five when they showed it, else the mean of those kept; the caller widens the
+//     view's translation offset covariance by ν̄ ν̄ᵀ (its calibration may have changed: a jump becomes
+//     a new offset that the other views teach, rather than noise that only down-weights the view),
+//     μ_u is solved on the centred disagreements ν_k − ν̄ of the same samples, and the kept ones are
+//     dropped, so the next judgement sees only what came after;
+//   - without: μ_u is solved on the disagreements themselves, and stays 1 again once none of the tests
+//     holds.
+// μ_u is the smallest grid point 2^(j/2), j = 0 … 40, whose median m(μ_u) of the (centred) samples is
+// at most m₃ (m decreases in μ): what makes the view's typical disagreement an honest one.
 //
-// A bias (a jump) shows as a large μ just the same: its measurements stop counting for much, and
-// the objects only that view sees get a covariance as large as the disagreement.
-//
-// What the filter reports for each view: its largest μ, when it was first found disagreeing (with the
-// median that showed it), how often its offset was widened, and how many of its measurements the gate
-// checked and left out.
+// What the filter reports for each view: its largest μ, when it was first found disagreeing (with
+// m(1) then), how often its offset was widened, and how many of its measurements the gate checked and
+// left out.
 
 #include <array>
 #include <cstddef>

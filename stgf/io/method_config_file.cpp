@@ -74,7 +74,20 @@ bool read_gate_key(const std::string& path, const std::string& key, const std::s
   return true;
 }
 
-void read_mmt(const std::string& path, const YAML::Node& node, ConstantVelocityModel& model) {
+void read_wls(const std::string& path, const YAML::Node& node, GateOptions& gate) {
+  if (node.IsNull()) return;
+  if (!node.IsMap()) throw InputError(path, line_of(node), "wls must be a mapping of settings");
+  KeysOfOneMapping keys(path);
+  for (const auto& entry : node) {
+    const std::string key = keys(entry.first);
+    const std::string name = "wls." + key;
+    if (!read_gate_key(path, key, name, entry.second, gate)) {
+      throw InputError(path, line_of(entry.first), "unknown setting " + quoted_excerpt(name));
+    }
+  }
+}
+
+void read_mmt(const std::string& path, const YAML::Node& node, ConstantVelocityModel& model, GateOptions& gate) {
   if (node.IsNull()) return;  // a section whose keys are all commented out
   if (!node.IsMap()) throw InputError(path, line_of(node), "mmt must be a mapping of settings");
   KeysOfOneMapping keys(path);
@@ -89,6 +102,7 @@ void read_mmt(const std::string& path, const YAML::Node& node, ConstantVelocityM
       model.position_noise_density = positive_number(path, name, entry.second);
     } else if (key == "velocity_noise_density") {
       model.velocity_noise_density = positive_number(path, name, entry.second);
+    } else if (read_gate_key(path, key, name, entry.second, gate)) {
     } else {
       throw InputError(path, line_of(entry.first), "unknown setting " + quoted_excerpt(name));
     }
@@ -177,11 +191,13 @@ MethodConfig parse_method_config(const std::string& path, const std::string& tex
     for (const auto& entry : root) {
       const std::string method = sections(entry.first);
       if (method == "mmt") {
-        read_mmt(path, entry.second, config.mmt);
+        read_mmt(path, entry.second, config.mmt, config.mmt_gate);
+      } else if (method == "wls") {
+        read_wls(path, entry.second, config.wls_gate);
       } else if (method == "ours") {
         read_ours(path, entry.second, config.ours);
       } else {
-        throw InputError(path, line_of(entry.first), "unknown section " + quoted_excerpt(method) + " (known: mmt, ours)");
+        throw InputError(path, line_of(entry.first), "unknown section " + quoted_excerpt(method) + " (known: wls, mmt, ours)");
       }
     }
   } catch (const YAML::Exception& error) {

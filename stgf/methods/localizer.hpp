@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "stgf/core/records.hpp"
+#include "stgf/core/view_noise_scales.hpp"
 
 namespace stgf {
 
@@ -21,6 +22,9 @@ class Localizer {
   // be empty (no view saw anything).
   virtual std::vector<Gaussian3> step(double time,
                                       std::span<const Measurement* const> measurements) = 0;
+
+  // Adds what its χ² gate did in this scene (core/measurement_gate.hpp); nothing for a method without.
+  virtual void report_gating(const std::string& /*scene*/, GatingSummary& /*summary*/) const {}
 };
 
 }  // namespace stgf

@@ -10,18 +10,45 @@ std::vector<Gaussian3> MultiViewKalmanTracker::step(double time,
                                                     std::span<const Measurement* const> measurements) {
   return estimate_per_object(measurements, [&](const ObjectGroup& group) {
     auto it = tracks_.find(group.object);
+    std::vector<double> distances;
+    if (it != tracks_.end()) {
+      it->second.filter.predict(time - it->second.time);
+      it->second.time = time;
+      if (gate_.enabled()) {
+        const Gaussian3 predicted = it->second.filter.position();
+        for (const Gaussian3& z : group.measurements) {
+          distances.push_back(distance_squared(z.mean() - predicted.mean(), z.covariance() + predicted.covariance()));
+        }
+      }
+    }
+    const MeasurementGate::Decision decision =
+        gate_.decide(distances, group.measurements, it == tracks_.end() ? 0 : it->second.gated_events);
+    std::vector<Gaussian3> passing;
+    for (std::size_t k = 0; k < group.measurements.size(); ++k) {
+      if (decision.checked) counts_.count(group.views[k], decision.passes[k]);
+      if (decision.passes[k]) passing.push_back(group.measurements[k]);
+    }
+    if (decision.restart) {
+      tracks_.erase(it);
+      it = tracks_.end();
+      ++restarts_;
+    }
     if (it == tracks_.end()) {
-      const Gaussian3 fused = information_weighted_mean(group.measurements);
-      it = tracks_.emplace(std::string(group.object), Track{ConstantVelocityFilter(model_, fused), time})
-               .first;
+      const Gaussian3 fused = information_weighted_mean(passing);
+      it = tracks_.emplace(std::string(group.object), Track{ConstantVelocityFilter(model_, fused), time, 0}).first;
+    } else if (passing.empty()) {
+      ++it->second.gated_events;
     } else {
-      Track& track = it->second;
-      track.filter.predict(time - track.time);
-      track.filter.update(group.measurements);
-      track.time = time;
+      it->second.filter.update(passing);
+      it->second.gated_events = 0;
     }
     return it->second.filter.position();
   });
+}
+
+void MultiViewKalmanTracker::report_gating(const std::string& scene, GatingSummary& summary) const {
+  summary.add(scene, counts_);
+  summary.restarts += restarts_;
 }
 
 }  // namespace stgf

@@ -12,8 +12,9 @@ ObjectGrouping group_by_object(std::span<const Measurement* const> measurements)
   for (const Measurement* measurement : measurements) {
     const auto [it, inserted] =
         group_of_object.try_emplace(measurement->object, grouping.groups.size());
-    if (inserted) grouping.groups.push_back(ObjectGroup{measurement->object, {}});
+    if (inserted) grouping.groups.push_back(ObjectGroup{measurement->object, {}, {}});
     grouping.groups[it->second].measurements.push_back(measurement->position);
+    grouping.groups[it->second].views.push_back(measurement->view);
     grouping.group_of_row.push_back(it->second);
   }
   return grouping;

@@ -14,6 +14,7 @@ namespace stgf {
 struct ObjectGroup {
   std::string_view object;
   std::vector<Gaussian3> measurements;  // the views' N(z_u, R_u), in step order
+  std::vector<std::string_view> views;  // the view of each
 };
 
 // One estimate per measurement row: `estimate_object(group)` is called once per object (objects in

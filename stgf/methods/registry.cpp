@@ -16,8 +16,8 @@ const std::vector<std::string>& method_names() {
 
 std::unique_ptr<Localizer> make_localizer(const std::string& name, const MethodConfig& config) {
   if (name == "aom") return std::make_unique<AverageOfMeasurements>();
-  if (name == "wls") return std::make_unique<WeightedLeastSquares>();
-  if (name == "mmt") return std::make_unique<MultiViewKalmanTracker>(config.mmt);
+  if (name == "wls") return std::make_unique<WeightedLeastSquares>(config.wls_gate);
+  if (name == "mmt") return std::make_unique<MultiViewKalmanTracker>(config.mmt, config.mmt_gate);
   std::string known;
   for (const std::string& known_name : method_names()) known += (known.empty() ? "" : ", ") + known_name;
   throw std::invalid_argument("unknown method '" + name + "' (known: " + known + ")");

@@ -30,6 +30,8 @@ struct OursSettings {
 struct MethodConfig {
   ConstantVelocityModel mmt;
   OursSettings ours;
+  GateOptions mmt_gate{false, 0.999};  // off: the baselines as published
+  GateOptions wls_gate{false, 0.999};
 };
 
 // The names `make_localizer` accepts, in the order tables list them.

@@ -10,14 +10,14 @@
 namespace stgf {
 
 std::vector<Gaussian3> run_method(const std::string& name, const MethodConfig& config,
-                                  std::span<const Measurement> measurements) {
+                                  std::span<const Measurement> measurements, GatingSummary* gating) {
   const auto& names = method_names();
   if (std::find(names.begin(), names.end(), name) == names.end()) make_localizer(name, config);  // throws: unknown name
-  return run_localizer([&] { return make_localizer(name, config); }, measurements);
+  return run_localizer([&] { return make_localizer(name, config); }, measurements, gating);
 }
 
 std::vector<Gaussian3> run_localizer(const std::function<std::unique_ptr<Localizer>()>& make_scene_localizer,
-                                     std::span<const Measurement> measurements) {
+                                     std::span<const Measurement> measurements, GatingSummary* gating) {
   std::vector<std::optional<Gaussian3>> estimates(measurements.size());
   std::vector<const Measurement*> step_measurements;
   for (const Scene& scene : group_into_scenes(measurements)) {
@@ -31,6 +31,7 @@ std::vector<Gaussian3> run_localizer(const std::function<std::unique_ptr<Localiz
       }
       for (std::size_t k = 0; k < step.rows.size(); ++k) estimates[step.rows[k]] = step_estimates[k];
     }
+    if (gating != nullptr) localizer->report_gating(scene.name, *gating);
   }
   std::vector<Gaussian3> result;
   result.reserve(estimates.size());

@@ -14,11 +14,12 @@ namespace stgf {
 
 // One estimate per measurement row, in the order of `measurements`, from a fresh Localizer made by
 // `make_scene_localizer()` for every scene.
+// What the localizers' gates did goes to `gating` when given.
 std::vector<Gaussian3> run_localizer(const std::function<std::unique_ptr<Localizer>()>& make_scene_localizer,
-                                     std::span<const Measurement> measurements);
+                                     std::span<const Measurement> measurements, GatingSummary* gating = nullptr);
 
 // run_localizer with the named model-based method.
 std::vector<Gaussian3> run_method(const std::string& name, const MethodConfig& config,
-                                  std::span<const Measurement> measurements);
+                                  std::span<const Measurement> measurements, GatingSummary* gating = nullptr);
 
 }  // namespace stgf
