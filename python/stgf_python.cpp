@@ -203,6 +203,19 @@ class Filter {
   std::size_t late_measurements() const { return filter_->late_measurements(); }
   std::size_t rewinds() const { return filter_->rewinds(); }
   std::size_t restarted_tracks() const { return filter_->restarted_tracks(); }
+  // Per view: what the χ² gate checked and left out, and its noise scale (design §1.12).
+  py::dict gating() const {
+    py::dict views;
+    for (const auto& [view, report] : filter_->view_noise_scales().reports()) {
+      py::dict entry;
+      entry["checked"] = report.checked;
+      entry["gated"] = report.gated;
+      entry["largest_noise_scale"] = report.largest_scale;
+      entry["offset_releases"] = report.offset_releases;
+      views[py::str(view)] = entry;
+    }
+    return views;
+  }
 
  private:
   std::shared_ptr<const MotionPredictor> predictor_;
@@ -430,7 +443,8 @@ PYBIND11_MODULE(_stgf, m) {
       .def("registration_offset", &Filter::registration_offset, py::arg("view"))
       .def_property_readonly("late_measurements", &Filter::late_measurements)
       .def_property_readonly("rewinds", &Filter::rewinds)
-      .def_property_readonly("restarted_tracks", &Filter::restarted_tracks);
+      .def_property_readonly("restarted_tracks", &Filter::restarted_tracks)
+      .def_property_readonly("gating", &Filter::gating);
 
   m.def("run", &sp::run, py::arg("method"), py::arg("scene"), py::arg("time"), py::arg("view"), py::arg("object"),
         py::arg("z"), py::arg("R"), py::arg("arrival") = py::none(), py::arg("model") = py::none(),

@@ -68,6 +68,19 @@ class TestFilter(unittest.TestCase):
         np.testing.assert_allclose(got["mean"], expected["mean"], atol=1e-9)
         np.testing.assert_allclose(got["covariance"], expected["covariance"], atol=1e-12)
 
+    def test_gate_leaves_out_a_gross_error_and_says_so(self):
+        time, view, z, R = two_views()
+        f = stgf.Filter()
+        f.fuse(time, view, "o", z, R)
+        # Both views at one later time, one of them 10 m off: the gate keeps it out.
+        t = float(time[-1]) + 0.1
+        good = z[-1] + np.array([0.1, 0.0, 0.0])
+        out = f.fuse([t, t], ["a", "b"], "o", np.stack([good, good + [10.0, 0.0, 0.0]]), R[:2])
+        self.assertLess(np.abs(out["mean"][0] - good).max(), 0.2)
+        gating = f.gating
+        self.assertEqual(gating["b"]["gated"] + gating["a"]["gated"], 1)
+        self.assertGreaterEqual(gating["b"]["checked"], 1)
+
     def test_bad_arrays_raise_value_error_naming_the_row(self):
         f = stgf.Filter()
         with self.assertRaisesRegex(ValueError, r"z has shape \(2, 2\) where \(2, 3\) was expected"):

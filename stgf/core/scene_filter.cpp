@@ -257,9 +257,9 @@ void SceneFilter::learn_view_noise(std::span<const Row> rows, const std::vector<
     const Measurement& measurement = rows[u].measurement;
     const Matrix3d& noise = measurement.position.covariance();
     const Matrix3d covariance = alone[u].covariance() + mean.covariance();
-    // Shared by the view's successive disagreements: its offset's uncertainty (alone's covariance
-    // beyond μR).
-    const Matrix3d shared = alone[u].covariance() - noise_scale(measurement.view) * noise;
+    // Shared by the view's successive disagreements: all but its own noise μR (its offset's
+    // uncertainty, and the others' mean, whose offsets recur and whose noise is taken as recurring).
+    const Matrix3d shared = covariance - noise_scale(measurement.view) * noise;
     const std::optional<Matrix3d> release = state_.view_noise.add(
         measurement.view, time, alone[u].mean() - mean.mean(), covariance - noise_scale(measurement.view) * noise,
         noise, shared, /*separate_bias=*/joint());

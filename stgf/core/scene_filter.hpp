@@ -39,6 +39,14 @@
 // Within an event, rows are taken in (object, view) order, so the result does not depend on the order
 // in which they were given.
 //
+// ── Faulty views (FilterOptions::gate; design §1.12) ──────────────────────────────────────────────
+// In step 3, each object's measurements at the event are first checked by the χ² gate
+// (measurement_gate.hpp) against the track's prediction, or against each other for a track without
+// a two-position history; those that fail are not fused (Result::gated, counted per view). A track
+// that the measurements agree is wrong starts again from them. Each measurement's disagreement with
+// the other views' measurements of the object at that time teaches its view's noise scale μ (its R is
+// taken as μR from then on) and, jointly, may re-open the view's offset (view_noise_scales.hpp).
+//
 // ── Late and repeated measurements ──────────────────────────────────────────────────────────────
 // Let t* be the latest event time processed. A new measurement at t > t* is queued. One at t ≤ t* but
 // within the lag window (t ≥ t* − lag_window) is incorporated as if it had come in order: the filter

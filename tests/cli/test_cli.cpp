@@ -672,3 +672,25 @@ TEST_F(Cli, ReproduceWritesTablesAndFiguresAndReuses) {
 }
 
 }  // namespace
+
+namespace stgf {
+namespace {
+
+// inject-fault: makes one view faulty, never over its input, and names a view that is not there.
+TEST_F(Cli, InjectFaultMakesOneViewFaulty) {
+  write("m.csv", kHeader + kGoodRows);
+  EXPECT_EQ(stgf("inject-fault --measurements m.csv --view v1 --kind jump --out m.csv").status, 2);
+  EXPECT_EQ(slurp(directory_ / "m.csv"), kHeader + kGoodRows);
+  const Result missing = stgf("inject-fault --measurements m.csv --view nobody --kind outliers --out f.csv");
+  EXPECT_EQ(missing.status, 2);
+  EXPECT_THAT(missing.err, HasSubstr("view 'nobody' has no rows in m.csv"));
+  EXPECT_FALSE(fs::exists(directory_ / "f.csv"));
+  const Result made = stgf("inject-fault --measurements m.csv --view v1 --kind understated-noise --out f.csv");
+  ASSERT_EQ(made.status, 0) << made.err;
+  EXPECT_NE(slurp(directory_ / "f.csv"), kHeader + kGoodRows);
+  EXPECT_EQ(stgf("run --method wls --measurements f.csv --out e.csv").status, 0);
+  EXPECT_EQ(stgf("inject-fault --measurements m.csv --view v1 --kind wobble --out g.csv").status, 2);
+}
+
+}  // namespace
+}  // namespace stgf

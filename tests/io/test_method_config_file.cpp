@@ -42,7 +42,7 @@ TEST(MethodConfigFile, ErrorsNameTheLine) {
             "c.yaml:2: mmt.position_noise_density must be a number");
   EXPECT_EQ(error_of("mmt:\n  position_noise_density: -1\n"),
             "c.yaml:2: mmt.position_noise_density must be a finite number > 0");
-  EXPECT_EQ(error_of("# c\nkalman:\n  a: 1\n"), "c.yaml:2: unknown section 'kalman' (known: mmt, ours)");
+  EXPECT_EQ(error_of("# c\nkalman:\n  a: 1\n"), "c.yaml:2: unknown section 'kalman' (known: wls, mmt, ours)");
   EXPECT_EQ(error_of("mmt: [1, 2\n"), error_of("mmt: [1, 2\n"));  // deterministic parse errors
   EXPECT_NE(error_of("mmt: [1, 2\n").find("c.yaml:"), std::string::npos);
 }
@@ -58,7 +58,7 @@ TEST(MethodConfigFile, DuplicateKeysAreErrors) {
 TEST(MethodConfigFile, LongNamesAreQuotedInPart) {
   const std::string message = error_of(std::string(1000, 'k') + ": 1\n");
   EXPECT_LT(message.size(), 200u) << message;
-  EXPECT_NE(message.find("(1000 characters) (known: mmt, ours)"), std::string::npos) << message;
+  EXPECT_NE(message.find("(1000 characters) (known: wls, mmt, ours)"), std::string::npos) << message;
 }
 
 TEST(MethodConfigFile, KeysMustBePlainNames) {
@@ -167,6 +167,30 @@ TEST(MethodConfigFile, ReadsOursTimeSettings) {
   EXPECT_EQ(error_of("ours:\n  late_measurements: [stop]\n"),
             "c.yaml:2: ours.late_measurements must be leave-out or stop");
   EXPECT_EQ(error_of("ours:\n  lag_window_s: -1\n"), "c.yaml:2: ours.lag_window_s must be a finite number >= 0");
+}
+
+}  // namespace
+}  // namespace stgf
+
+namespace stgf {
+namespace {
+
+// The χ² gate: on for ours, off for the baselines unless asked for; its probability in (0, 1).
+TEST(MethodConfigFile, ReadsTheGateOfEachMethod) {
+  const MethodConfig defaults = parse_method_config("c.yaml", "");
+  EXPECT_TRUE(defaults.ours.gate.enabled);
+  EXPECT_FALSE(defaults.wls_gate.enabled);
+  EXPECT_FALSE(defaults.mmt_gate.enabled);
+  const MethodConfig config = parse_method_config(
+      "c.yaml", "wls:\n  gate: true\nmmt:\n  gate: true\n  gate_probability: 0.99\nours:\n  gate: false\n");
+  EXPECT_TRUE(config.wls_gate.enabled);
+  EXPECT_TRUE(config.mmt_gate.enabled);
+  EXPECT_DOUBLE_EQ(config.mmt_gate.probability, 0.99);
+  EXPECT_FALSE(config.ours.gate.enabled);
+  EXPECT_EQ(error_of("ours:\n  gate_probability: 1.5\n"), "c.yaml:2: ours.gate_probability must be below 1 (e.g. 0.999)");
+  EXPECT_EQ(error_of("wls:\n  gate: maybe\n"), "c.yaml:2: wls.gate must be true or false");
+  EXPECT_EQ(error_of("wls:\n  gate_probability: 0\n"), "c.yaml:2: wls.gate_probability must be a finite number > 0");
+  EXPECT_EQ(error_of("wls:\n  initial_position_variance: 1\n"), "c.yaml:2: unknown setting 'wls.initial_position_variance'");
 }
 
 }  // namespace
