@@ -70,7 +70,11 @@ class TestFilter(unittest.TestCase):
 
     def test_gate_leaves_out_a_gross_error_and_says_so(self):
         time, view, z, R = two_views()
-        f = stgf.Filter()
+        with tempfile.TemporaryDirectory() as folder:
+            config = os.path.join(folder, "gate.yaml")
+            with open(config, "w") as file:
+                file.write("ours:\n  gate: true\n")
+            f = stgf.Filter(config=config)
         f.fuse(time, view, "o", z, R)
         # Both views at one later time, one of them 10 m off: the gate keeps it out.
         t = float(time[-1]) + 0.1

@@ -92,7 +92,7 @@ struct FilterOptions {
   TrackMode tracks = TrackMode::kPerObject;
   double lag_window = 1.0;                  // s: how late a measurement may come and still count
   LatePolicy late = LatePolicy::kLeaveOut;  // what happens to one that comes later
-  GateOptions gate;                         // the χ² gate and the views' noise scales
+  GateOptions gate;                         // the χ² gate and the views' noise scales (off)
 };
 
 // Event time between checkpoints (s).

@@ -19,7 +19,7 @@ namespace stgf {
 
 class MultiViewKalmanTracker final : public Localizer {
  public:
-  explicit MultiViewKalmanTracker(const ConstantVelocityModel& model, const GateOptions& gate = GateOptions{false, 0.999})
+  explicit MultiViewKalmanTracker(const ConstantVelocityModel& model, const GateOptions& gate = GateOptions{})
       : model_(model), gate_(gate) {}
 
   std::vector<Gaussian3> step(double time, std::span<const Measurement* const> measurements) override;

@@ -23,15 +23,15 @@ struct OursSettings {
   bool per_view_tracks = false;               // the paper's per-view tracks instead of one per object
   double lag_window = 1.0;                    // s: how late a message may arrive and still be fused in place
   bool stop_on_late = false;                  // a message later than that: stop (true) or leave it out
-  GateOptions gate;                           // the χ² gate and the views' noise scales (on)
+  GateOptions gate;                           // the χ² gate and the views' noise scales (off)
 };
 
 // Settings of every method, read from the YAML config (see config/methods.yaml).
 struct MethodConfig {
   ConstantVelocityModel mmt;
   OursSettings ours;
-  GateOptions mmt_gate{false, 0.999};  // off: the baselines as published
-  GateOptions wls_gate{false, 0.999};
+  GateOptions mmt_gate;  // the baselines' χ² gate (off)
+  GateOptions wls_gate;
 };
 
 // The names `make_localizer` accepts, in the order tables list them.

@@ -16,7 +16,7 @@ namespace stgf {
 
 class WeightedLeastSquares final : public Localizer {
  public:
-  explicit WeightedLeastSquares(const GateOptions& gate = GateOptions{false, 0.999}) : gate_(gate) {}
+  explicit WeightedLeastSquares(const GateOptions& gate = GateOptions{}) : gate_(gate) {}
 
   std::vector<Gaussian3> step(double time, std::span<const Measurement* const> measurements) override;
   void report_gating(const std::string& scene, GatingSummary& summary) const override { summary.add(scene, counts_); }

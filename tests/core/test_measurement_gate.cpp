@@ -19,13 +19,13 @@ TEST(MeasurementGate, ThresholdIsTheChiSquareQuantile) {
   EXPECT_NEAR(chi_square_3_quantile(0.5), 2.365973884, 1e-8);
   EXPECT_NEAR(chi_square_3_quantile(0.95), 7.814727903, 1e-8);
   EXPECT_NEAR(chi_square_3_quantile(0.999), 16.26623620, 1e-7);
-  EXPECT_NEAR(MeasurementGate(GateOptions{}).threshold(), 16.26623620, 1e-7);
+  EXPECT_NEAR(MeasurementGate(GateOptions{true, 0.999}).threshold(), 16.26623620, 1e-7);
   EXPECT_THROW(MeasurementGate(GateOptions{true, 1.0}), std::invalid_argument);
   EXPECT_THROW(MeasurementGate(GateOptions{true, 0.0}), std::invalid_argument);
 }
 
 TEST(MeasurementGate, ConsensusLeavesOutTheOneThatAgreesWithNoOne) {
-  const MeasurementGate gate(GateOptions{});
+  const MeasurementGate gate(GateOptions{true, 0.999});
   const std::vector<Gaussian3> rows{at(5.0), at(0.0), at(0.05), at(-0.05)};  // σ = 0.1 m; 5 m is 35σ off
   const MeasurementGate::Consensus consensus = gate.consensus(rows);
   EXPECT_TRUE(consensus.agreement);
@@ -40,7 +40,7 @@ TEST(MeasurementGate, ConsensusLeavesOutTheOneThatAgreesWithNoOne) {
 }
 
 TEST(MeasurementGate, DecidesAgainstThePredictionAndRestartsAWrongTrack) {
-  const MeasurementGate gate(GateOptions{});
+  const MeasurementGate gate(GateOptions{true, 0.999});
   const std::vector<Gaussian3> rows{at(0.0), at(0.05), at(8.0)};
   // The prediction agrees with the first two: the third is left out, no restart.
   MeasurementGate::Decision decision = gate.decide(std::vector<double>{1.0, 2.0, 900.0}, rows, 0);

@@ -175,18 +175,18 @@ TEST(MethodConfigFile, ReadsOursTimeSettings) {
 namespace stgf {
 namespace {
 
-// The χ² gate: on for ours, off for the baselines unless asked for; its probability in (0, 1).
+// The χ² gate: off unless asked for; its probability in (0, 1).
 TEST(MethodConfigFile, ReadsTheGateOfEachMethod) {
   const MethodConfig defaults = parse_method_config("c.yaml", "");
-  EXPECT_TRUE(defaults.ours.gate.enabled);
+  EXPECT_FALSE(defaults.ours.gate.enabled);
   EXPECT_FALSE(defaults.wls_gate.enabled);
   EXPECT_FALSE(defaults.mmt_gate.enabled);
   const MethodConfig config = parse_method_config(
-      "c.yaml", "wls:\n  gate: true\nmmt:\n  gate: true\n  gate_probability: 0.99\nours:\n  gate: false\n");
+      "c.yaml", "wls:\n  gate: true\nmmt:\n  gate: true\n  gate_probability: 0.99\nours:\n  gate: true\n");
   EXPECT_TRUE(config.wls_gate.enabled);
   EXPECT_TRUE(config.mmt_gate.enabled);
   EXPECT_DOUBLE_EQ(config.mmt_gate.probability, 0.99);
-  EXPECT_FALSE(config.ours.gate.enabled);
+  EXPECT_TRUE(config.ours.gate.enabled);
   EXPECT_EQ(error_of("ours:\n  gate_probability: 1.5\n"), "c.yaml:2: ours.gate_probability must be below 1 (e.g. 0.999)");
   EXPECT_EQ(error_of("wls:\n  gate: maybe\n"), "c.yaml:2: wls.gate must be true or false");
   EXPECT_EQ(error_of("wls:\n  gate_probability: 0\n"), "c.yaml:2: wls.gate_probability must be a finite number > 0");

@@ -210,13 +210,13 @@ namespace stgf {
 namespace {
 
 // Three views watch an object walking a straight line; at one time view "b" reports it 10 m off. With
-// the gate (the default) that measurement is left out, counted, and the estimate stays on the object;
-// without, it drags the estimate most of a metre away.
+// the gate that measurement is left out, counted, and the estimate stays on the object; without (the
+// default), it drags the estimate most of a metre away.
 TEST(SpatiotemporalGraphFilter, GatesAGrossErrorOfOneView) {
   const ConstantVelocityPredictor predictor(0.01, 1.0);
-  FilterOptions without_gate;
-  without_gate.gate.enabled = false;
-  SpatiotemporalGraphFilter gated(predictor), ungated(predictor, without_gate);
+  FilterOptions with_gate;
+  with_gate.gate.enabled = true;
+  SpatiotemporalGraphFilter gated(predictor, with_gate), ungated(predictor);
   std::mt19937_64 random(5);
   std::normal_distribution<double> normal;
   const Matrix3d r = 0.01 * Matrix3d::Identity();
