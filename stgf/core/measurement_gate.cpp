@@ -67,7 +67,7 @@ MeasurementGate::Consensus MeasurementGate::consensus(std::span<const Gaussian3>
 MeasurementGate::Decision MeasurementGate::decide(std::span<const double> prediction_distances,
                                                  std::span<const Gaussian3> alone, int gated_events) const {
   const std::size_t n = alone.size();
-  Decision decision{std::vector<bool>(n, true), false, 0, false};
+  Decision decision = pass_all(n);
   if (!enabled_) return decision;
   if (!prediction_distances.empty()) {
     decision.checked = true;

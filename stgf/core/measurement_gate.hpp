@@ -77,6 +77,8 @@ class MeasurementGate {
   };
   Decision decide(std::span<const double> prediction_distances, std::span<const Gaussian3> alone,
                   int gated_events) const;
+  // What decide() gives without the gate: all `count` pass, nothing checked.
+  static Decision pass_all(std::size_t count) { return Decision{std::vector<bool>(count, true), false, 0, false}; }
 
  private:
   bool enabled_;

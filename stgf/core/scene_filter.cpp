@@ -256,13 +256,10 @@ void SceneFilter::learn_view_noise(std::span<const Row> rows, const std::vector<
     const Gaussian3 mean = others.solve();
     const Measurement& measurement = rows[u].measurement;
     const Matrix3d& noise = measurement.position.covariance();
-    const Matrix3d covariance = alone[u].covariance() + mean.covariance();
-    // Shared by the view's successive disagreements: all but its own noise μR (its offset's
-    // uncertainty, and the others' mean, whose offsets recur and whose noise is taken as recurring).
-    const Matrix3d shared = covariance - noise_scale(measurement.view) * noise;
-    const std::optional<Matrix3d> release = state_.view_noise.add(
-        measurement.view, time, alone[u].mean() - mean.mean(), covariance - noise_scale(measurement.view) * noise,
-        noise, shared, /*separate_bias=*/joint());
+    // All of the disagreement's covariance but the view's own noise μR.
+    const Matrix3d rest = alone[u].covariance() + mean.covariance() - noise_scale(measurement.view) * noise;
+    const std::optional<Matrix3d> release =
+        state_.view_noise.add(measurement.view, time, alone[u].mean() - mean.mean(), rest, noise, /*separate_bias=*/joint());
     if (release) state_.joint.release_offset(measurement.view, *release);
   }
 }
@@ -281,8 +278,10 @@ void SceneFilter::process_joint(Event& event) {
     while (end < event.rows.size() && event.rows[end].measurement.object == object) ++end;
     const std::span<Row> rows(event.rows.data() + first, end - first);
     ObjectTrack& track = state_.tracks[key_of(rows.front().measurement)];
-    std::vector<Gaussian3> alone;  // each measurement alone, corrected for its view's offset
-    for (const Row& row : rows) alone.push_back(state_.joint.corrected(row.measurement, noise_scale(row.measurement.view)));
+    std::vector<Gaussian3> alone;  // with the gate: each measurement alone, corrected for its view's offset
+    if (gate_.enabled()) {
+      for (const Row& row : rows) alone.push_back(state_.joint.corrected(row.measurement, noise_scale(row.measurement.view)));
+    }
     std::optional<TrackPrediction> prediction;
     std::optional<ObjectTrack::Motion> motion;
     std::vector<JointRegistration::Innovation> innovations;  // against the prediction, when gated by it
@@ -304,7 +303,9 @@ void SceneFilter::process_joint(Event& event) {
         }
       }
     }
-    const MeasurementGate::Decision decision = gate_.decide(distances, alone, track.gated_events());
+    const MeasurementGate::Decision decision = gate_.enabled()
+                                                   ? gate_.decide(distances, alone, track.gated_events())
+                                                   : MeasurementGate::pass_all(rows.size());
     for (std::size_t k = 0; k < rows.size() && decision.checked; ++k) {
       view_noise.count(rows[k].measurement.view, decision.passes[k]);
     }
@@ -387,21 +388,27 @@ void SceneFilter::process(Event& event) {
     const std::string& object = event.rows[first].measurement.object;
     std::size_t end = first;
     while (end < event.rows.size() && event.rows[end].measurement.object == object) ++end;
-    // The rows with their noise scaled by their views' μ, each alone corrected for its view's offset.
-    std::vector<Measurement> scaled;
-    std::vector<Gaussian3> alone;
+    // The rows with their noise scaled by their views' μ (copies only where μ ≠ 1), and with the gate,
+    // each alone corrected for its view's offset.
+    std::vector<Measurement> rescaled;
+    rescaled.reserve(end - first);  // no reallocation: `scaled` points into it
+    std::vector<const Measurement*> scaled;
     for (std::size_t k = first; k < end; ++k) {
-      Measurement measurement = event.rows[k].measurement;
+      const Measurement& measurement = event.rows[k].measurement;
       const double view_scale = noise_scale(measurement.view);
-      if (view_scale != 1.0) {
-        measurement.position = Gaussian3::from_covariance(measurement.position.mean(),
-                                                          view_scale * measurement.position.covariance());
+      if (view_scale == 1.0) {
+        scaled.push_back(&measurement);
+        continue;
       }
-      scaled.push_back(std::move(measurement));
+      Measurement& copy = rescaled.emplace_back(measurement);
+      copy.position = Gaussian3::from_covariance(measurement.position.mean(), view_scale * measurement.position.covariance());
+      scaled.push_back(&copy);
     }
-    for (const Measurement& measurement : scaled) {
-      const Measurement* single = &measurement;
-      alone.push_back(registration ? state_.registration.combine(std::span(&single, 1)) : measurement.position);
+    std::vector<Gaussian3> alone;
+    if (gate_.enabled()) {
+      for (const Measurement* measurement : scaled) {
+        alone.push_back(registration ? state_.registration.combine(std::span(&measurement, 1)) : measurement->position);
+      }
     }
     // kPerObject: one track for all rows; kPerView: one per row. The gate checks each row against the
     // prediction of the first of them that has one.
@@ -423,7 +430,8 @@ void SceneFilter::process(Event& event) {
       }
     }
     const MeasurementGate::Decision decision =
-        gate_.decide(distances, alone, reference ? reference->gated_events() : 0);
+        gate_.enabled() ? gate_.decide(distances, alone, reference ? reference->gated_events() : 0)
+                        : MeasurementGate::pass_all(end - first);
     std::vector<bool> gated(end - first);
     for (std::size_t k = first; k < end; ++k) {
       gated[k - first] = !decision.passes[k - first];
@@ -448,8 +456,8 @@ void SceneFilter::process(Event& event) {
     std::vector<Gaussian3> positions;
     for (std::size_t k = first; k < end; ++k) {
       if (gated[k - first]) continue;
-      rows.push_back(&scaled[k - first]);
-      positions.push_back(scaled[k - first].position);
+      rows.push_back(scaled[k - first]);
+      positions.push_back(scaled[k - first]->position);
       fused_rows.push_back(&event.rows[k].measurement);
     }
     // One combined measurement of those that passed: corrected for the registration offsets when

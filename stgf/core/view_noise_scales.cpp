@@ -9,6 +9,12 @@
 
 namespace stgf {
 
+ViewNoiseScales::View& ViewNoiseScales::view_of(std::string_view name) {
+  auto found = views_.find(name);
+  if (found == views_.end()) found = views_.emplace(std::string(name), View{}).first;
+  return found->second;
+}
+
 double ViewNoiseScales::scale(std::string_view view) const {
   const auto found = views_.find(view);
   return found == views_.end() ? 1.0 : found->second.scale;
@@ -18,7 +24,7 @@ double ViewNoiseScales::median_distance_squared(const View& view, double scale, 
                                                 std::size_t count) const {
   std::array<double, kWindow> values;
   for (std::size_t i = 0; i < count; ++i) {
-    const Sample& sample = view.window[(view.samples - 1 - i) % kWindow];
+    const Sample& sample = view.recent(i);
     values[i] = scale == 1.0 && centre.isZero()
                     ? sample.distance_squared
                     : distance_squared(sample.innovation - centre, sample.prediction_covariance + scale * sample.noise);
@@ -32,29 +38,25 @@ ViewNoiseScales::Typical ViewNoiseScales::typical_innovation(const View& view, s
   Typical typical{Vector3d::Zero(), Matrix3d::Zero()};
   for (int axis = 0; axis < 3; ++axis) {
     std::array<double, kWindow> values;
-    for (std::size_t i = 0; i < count; ++i) values[i] = view.window[(view.samples - 1 - i) % kWindow].innovation(axis);
+    for (std::size_t i = 0; i < count; ++i) values[i] = view.recent(i).innovation(axis);
     auto middle = values.begin() + static_cast<std::ptrdiff_t>(count / 2);
     std::nth_element(values.begin(), middle, values.begin() + static_cast<std::ptrdiff_t>(count));
     typical.median(axis) = *middle;
   }
   const double n = static_cast<double>(count);
   for (std::size_t i = 0; i < count; ++i) {
-    const Sample& sample = view.window[(view.samples - 1 - i) % kWindow];
-    const Matrix3d covariance = sample.prediction_covariance + sample.noise;
-    typical.variance += (std::numbers::pi / 2.0 * (covariance - sample.shared) / n + sample.shared) / n;
+    const Sample& sample = view.recent(i);
+    typical.variance += (std::numbers::pi / 2.0 * sample.noise / n + sample.prediction_covariance) / n;
   }
   return typical;
 }
 
 std::optional<Matrix3d> ViewNoiseScales::add(std::string_view name, double time, const Vector3d& innovation,
                                              const Matrix3d& prediction_covariance, const Matrix3d& noise,
-                                             const Matrix3d& shared_covariance, bool separate_bias) {
-  auto found = views_.find(name);
-  if (found == views_.end()) found = views_.emplace(std::string(name), View{}).first;
-  View& view = found->second;
+                                             bool separate_bias) {
+  View& view = view_of(name);
   view.window[view.samples % kWindow] =
-      Sample{innovation, prediction_covariance, noise, shared_covariance,
-             distance_squared(innovation, prediction_covariance + noise)};
+      Sample{innovation, prediction_covariance, noise, distance_squared(innovation, prediction_covariance + noise)};
   ++view.samples;
   if (view.samples < kRecent) return std::nullopt;
   const std::size_t available = std::min(view.samples, kWindow);
@@ -77,7 +79,7 @@ std::optional<Matrix3d> ViewNoiseScales::add(std::string_view name, double time,
     centre = recent.median;
   } else if (separate_bias) {
     for (std::size_t i = 0; i < available; ++i) {
-      centre += view.window[(view.samples - 1 - i) % kWindow].innovation / static_cast<double>(available);
+      centre += view.recent(i).innovation / static_cast<double>(available);
     }
   }
   // The smallest grid point 2^(j/2) whose median falls to m₃: bisection over j (m decreases in μ).
@@ -102,10 +104,9 @@ std::optional<Matrix3d> ViewNoiseScales::add(std::string_view name, double time,
 }
 
 void ViewNoiseScales::count(std::string_view name, bool passed) {
-  auto found = views_.find(name);
-  if (found == views_.end()) found = views_.emplace(std::string(name), View{}).first;
-  ++found->second.report.checked;
-  if (!passed) ++found->second.report.gated;
+  Report& report = view_of(name).report;
+  ++report.checked;
+  if (!passed) ++report.gated;
 }
 
 std::map<std::string, ViewNoiseScales::Report> ViewNoiseScales::reports() const {

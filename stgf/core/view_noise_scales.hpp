@@ -9,15 +9,16 @@
 //
 // Disagreements. Each measurement of u at a time when other views measure the same object and pass
 // the gate gives ν = z_u − (the others' information-weighted mean), each corrected for its view's
-// offset: ν ~ N(0, A + μ_u R), A the rest of its covariance, of which C is shared by u's successive
-// disagreements (its offset's uncertainty, which does not average out). The view's last kWindow
+// offset: ν ~ N(0, A + μ_u R), A the rest of its covariance (its offset's uncertainty and the
+// others' mean), taken as shared by u's successive disagreements: the offsets recur, and only u's
+// own noise R is taken to average out. The view's last kWindow
 // disagreements are kept (all of them, from kRecent on, before it has kWindow). With
 //     d²_k(μ) = ν_kᵀ (A_k + μ R_k)⁻¹ ν_k,   m(μ) = median_k d²_k(μ),   m₃ = 2.366 the median of χ²(3),
 // the view is found disagreeing when any of these holds:
 //   - m(1) > kTrigger · m₃ = 5.9: its typical measurement lies where an honest one lands 12 % of the
 //     time (for kWindow = 15 honest ones, probability about 10⁻⁴);
 //   - ν̃ᵀ V⁻¹ ν̃ > the χ²(3) quantile 0.999, ν̃ the coordinate-wise median of the kept disagreements
-//     (gross outliers do not move it) and V = mean_k (π/2 (S_k − C_k)/n + C_k) its variance, S = A + R:
+//     (gross outliers do not move it) and V = mean_k (π/2 R_k/n + A_k) its variance:
 //     a bias that is small against one measurement's noise but persists;
 //   - the same for its last kRecent = 5 disagreements at the quantile 0.9999: a jump shows within
 //     five measurements rather than half a window.
@@ -70,10 +71,8 @@ class ViewNoiseScales {
   // call returns ν̄ ν̄ᵀ, by which the caller widens the view's translation offset covariance (the
   // view's calibration may have changed: a jump becomes a new offset that the other views teach,
   // instead of a noise that only down-weights it). Otherwise it returns nothing.
-  // `shared_covariance`: C above (zero when none).
   std::optional<Matrix3d> add(std::string_view view, double time, const Vector3d& innovation,
-                              const Matrix3d& prediction_covariance, const Matrix3d& noise,
-                              const Matrix3d& shared_covariance, bool separate_bias = false);
+                              const Matrix3d& prediction_covariance, const Matrix3d& noise, bool separate_bias = false);
   // Counts a measurement of `view` checked by the gate, and whether it passed.
   void count(std::string_view view, bool passed);
 
@@ -94,7 +93,6 @@ class ViewNoiseScales {
     Vector3d innovation;
     Matrix3d prediction_covariance;
     Matrix3d noise;
-    Matrix3d shared;
     double distance_squared;  // d²(1)
   };
   struct View {
@@ -102,9 +100,12 @@ class ViewNoiseScales {
     std::size_t samples = 0;  // added so far (the window holds the last kWindow)
     double scale = 1.0;
     Report report;
+    // The i-th latest sample (0: the latest; i < min(samples, kWindow)).
+    const Sample& recent(std::size_t i) const { return window[(samples - 1 - i) % kWindow]; }
   };
   // Over the last `count` samples: the median of d²(μ) of ν − centre, and the coordinate-wise median
   // of ν with its variance V.
+  View& view_of(std::string_view name);  // added if new
   double median_distance_squared(const View& view, double scale, const Vector3d& centre, std::size_t count) const;
   struct Typical {
     Vector3d median;

@@ -22,11 +22,17 @@ std::vector<Gaussian3> MultiViewKalmanTracker::step(double time,
       }
     }
     const MeasurementGate::Decision decision =
-        gate_.decide(distances, group.measurements, it == tracks_.end() ? 0 : it->second.gated_events);
+        gate_.enabled() ? gate_.decide(distances, group.measurements, it == tracks_.end() ? 0 : it->second.gated_events)
+                        : MeasurementGate::pass_all(group.measurements.size());
+    // What is fused: every measurement, or (copied) those that passed the gate.
+    std::span<const Gaussian3> fused = group.measurements;
     std::vector<Gaussian3> passing;
-    for (std::size_t k = 0; k < group.measurements.size(); ++k) {
-      if (decision.checked) counts_.count(group.views[k], decision.passes[k]);
-      if (decision.passes[k]) passing.push_back(group.measurements[k]);
+    if (decision.checked) {
+      for (std::size_t k = 0; k < group.measurements.size(); ++k) {
+        counts_.count(group.views[k], decision.passes[k]);
+        if (decision.passes[k]) passing.push_back(group.measurements[k]);
+      }
+      fused = passing;
     }
     if (decision.restart) {
       tracks_.erase(it);
@@ -34,12 +40,13 @@ std::vector<Gaussian3> MultiViewKalmanTracker::step(double time,
       ++restarts_;
     }
     if (it == tracks_.end()) {
-      const Gaussian3 fused = information_weighted_mean(passing);
-      it = tracks_.emplace(std::string(group.object), Track{ConstantVelocityFilter(model_, fused), time, 0}).first;
-    } else if (passing.empty()) {
+      it = tracks_.emplace(std::string(group.object),
+                           Track{ConstantVelocityFilter(model_, information_weighted_mean(fused)), time, 0})
+               .first;
+    } else if (fused.empty()) {
       ++it->second.gated_events;
     } else {
-      it->second.filter.update(passing);
+      it->second.filter.update(fused);
       it->second.gated_events = 0;
     }
     return it->second.filter.position();
