@@ -1,11 +1,11 @@
 // SPDX-License-Identifier: Apache-2.0
-// Inference time of the learned motion model Φ for one step: every view's graph of the step goes
-// through one batched forward pass (history 8, hidden 32, the default shape).
+// Inference time of the learned motion model Φ for one step (history 8, hidden 32, the default shape):
+// the Eigen forward pass the filter runs, and the LibTorch network it replaced for inference.
 //
 //   build/bench/bench_motion_model --benchmark_min_time=1
 //
 // BM_PhiStep/objects/views: one step of `views` graphs of `objects` objects each (all views see all
-// objects). The Python STGAT reference takes about 1.2 ms per scene of 2–10 pedestrians for one
+// objects; the filter's one track per object makes one graph per scene: views = 1). The Python STGAT reference takes about 1.2 ms per scene of 2–10 pedestrians for one
 // prediction step on this kind of CPU. items = object-views predicted.
 
 #include <cmath>
@@ -14,6 +14,7 @@
 #include <torch/torch.h>
 
 #include "stgf/learn/motion_model.hpp"
+#include "stgf/learn/motion_network.hpp"
 
 namespace stgf {
 namespace {
@@ -36,19 +37,49 @@ std::vector<MotionGraph> step_graphs(int objects, int views, int history) {
   return graphs;
 }
 
+// Φ's forecast as the filter runs it: the Eigen forward pass (motion_inference.hpp).
 void BM_PhiStep(benchmark::State& state) {
   const int objects = static_cast<int>(state.range(0));
   const int views = static_cast<int>(state.range(1));
-  torch::set_num_threads(1);
   const MotionModel model(MotionModelShape{}, MotionNormalisation{}, 1);
   const std::vector<MotionGraph> graphs = step_graphs(objects, views, MotionModelShape{}.history_length);
   for (auto _ : state) {
-    auto predicted = model.predict(graphs);
-    benchmark::DoNotOptimize(predicted);
+    auto forecasts = model.forecast(graphs);
+    benchmark::DoNotOptimize(forecasts);
   }
   state.SetItemsProcessed(state.iterations() * objects * views);
 }
-BENCHMARK(BM_PhiStep)->Args({4, 7})->Args({10, 1})->Args({200, 8})->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_PhiStep)
+    ->Args({4, 1})
+    ->Args({4, 7})
+    ->Args({10, 1})
+    ->Args({200, 8})
+    ->Args({1000, 1})
+    ->Unit(benchmark::kMicrosecond);
+
+// The same forward pass through the LibTorch network (what inference ran before; training still does).
+void BM_PhiStepLibTorch(benchmark::State& state) {
+  const int objects = static_cast<int>(state.range(0));
+  const int views = static_cast<int>(state.range(1));
+  torch::set_num_threads(1);
+  MotionModel model(MotionModelShape{}, MotionNormalisation{}, 1);
+  const std::vector<MotionGraph> graphs = step_graphs(objects, views, MotionModelShape{}.history_length);
+  model.impl().network->eval();
+  for (auto _ : state) {
+    c10::InferenceMode inference;
+    const detail::MotionBatch batch = detail::make_motion_batch(graphs, model.shape(), model.normalisation());
+    auto acceleration = model.impl().network->acceleration(batch);
+    benchmark::DoNotOptimize(acceleration);
+  }
+  state.SetItemsProcessed(state.iterations() * objects * views);
+}
+BENCHMARK(BM_PhiStepLibTorch)
+    ->Args({4, 1})
+    ->Args({4, 7})
+    ->Args({10, 1})
+    ->Args({200, 8})
+    ->Args({1000, 1})
+    ->Unit(benchmark::kMicrosecond);
 
 }  // namespace
 }  // namespace stgf

@@ -22,119 +22,24 @@ namespace stgf {
 namespace detail {
 namespace {
 
-constexpr int kMotionFeatures = 7;
-
 torch::Tensor float_tensor(const std::vector<float>& values, std::vector<int64_t> shape) {
   return torch::from_blob(const_cast<float*>(values.data()), shape, torch::kFloat32).clone();
-}
-
-// Edges (j → i) of one graph of n objects starting at `first`: all pairs when small, else the k
-// nearest neighbours of each object; always the self-loop.
-void add_edges(const std::vector<Vector3d>& positions, std::size_t first, std::size_t n, const MotionModelShape& shape,
-               std::vector<int64_t>& source, std::vector<int64_t>& target) {
-  const auto full = static_cast<std::size_t>(shape.max_fully_connected);
-  const auto k = static_cast<std::size_t>(shape.nearest_neighbours);
-  std::vector<std::pair<double, std::size_t>> distances;
-  for (std::size_t i = 0; i < n; ++i) {
-    if (n <= full) {
-      for (std::size_t j = 0; j < n; ++j) {
-        source.push_back(static_cast<int64_t>(first + j));
-        target.push_back(static_cast<int64_t>(first + i));
-      }
-      continue;
-    }
-    distances.clear();
-    for (std::size_t j = 0; j < n; ++j) {
-      if (j != i) distances.emplace_back((positions[first + j] - positions[first + i]).squaredNorm(), j);
-    }
-    const std::size_t count = std::min(k, distances.size());
-    std::partial_sort(distances.begin(), distances.begin() + static_cast<std::ptrdiff_t>(count), distances.end());
-    source.push_back(static_cast<int64_t>(first + i));
-    target.push_back(static_cast<int64_t>(first + i));
-    for (std::size_t m = 0; m < count; ++m) {
-      source.push_back(static_cast<int64_t>(first + distances[m].second));
-      target.push_back(static_cast<int64_t>(first + i));
-    }
-  }
 }
 
 }  // namespace
 
 MotionBatch make_motion_batch(std::span<const MotionGraph> graphs, const MotionModelShape& shape,
                               const MotionNormalisation& normalisation) {
-  const int history = shape.history_length;
-  MotionBatch batch;
-  std::vector<float> motion, last_velocity, horizon, last_intervals;
-  batch.graph_offsets.push_back(0);
-  for (const MotionGraph& graph : graphs) {
-    for (const ObjectHistory& object : graph.objects) {
-      const std::size_t points = object.positions.size();
-      if (points == 0 || object.times.size() != points) {
-        throw std::invalid_argument("motion graph: object '" + object.object + "' has no or inconsistent history");
-      }
-      const double last_time = object.times.back();
-      const double dt = graph.target_time - last_time;
-      if (!(dt > 0.0)) {
-        throw std::invalid_argument("motion graph: object '" + object.object +
-                                    "' has history at or after the target time");
-      }
-      // Intervals k = points−1 … 1, newest last; pad the front. Per interval: the velocity over it
-      // and the acceleration from the previous interval's velocity, both per second.
-      const int intervals = static_cast<int>(points) - 1;
-      const int used = std::min(intervals, history);
-      for (int slot = 0; slot < history - used; ++slot) motion.insert(motion.end(), kMotionFeatures, 0.0f);
-      const auto velocity_of = [&](int k) {
-        return Vector3d((object.positions[k] - object.positions[k - 1]) / (object.times[k] - object.times[k - 1]));
-      };
-      Vector3d velocity = Vector3d::Zero();
-      double last_interval = 0.0;
-      for (int k = intervals - used + 1; k <= intervals; ++k) {
-        last_interval = object.times[k] - object.times[k - 1];
-        if (!(last_interval > 0.0)) throw std::invalid_argument("motion graph: history times must increase");
-        velocity = velocity_of(k);
-        Vector3d acceleration = Vector3d::Zero();
-        if (k >= 2) {
-          acceleration = (velocity - velocity_of(k - 1)) / (0.5 * (object.times[k] - object.times[k - 2]));
-        }
-        for (int axis = 0; axis < 3; ++axis) motion.push_back(static_cast<float>(velocity(axis) / normalisation.speed));
-        for (int axis = 0; axis < 3; ++axis) {
-          motion.push_back(static_cast<float>(acceleration(axis) * normalisation.period / normalisation.speed));
-        }
-        motion.push_back(1.0f);
-      }
-      if (intervals == 0) velocity.setZero();
-      batch.last_velocities.push_back(velocity);
-      batch.last_intervals.push_back(intervals == 0 ? 0.0 : last_interval);
-      for (int axis = 0; axis < 3; ++axis) last_velocity.push_back(static_cast<float>(velocity(axis) / normalisation.speed));
-      horizon.push_back(static_cast<float>(dt / normalisation.period));
-      last_intervals.push_back(static_cast<float>(last_interval / normalisation.period));
-      batch.last_positions.push_back(object.positions.back());
-      batch.horizons.push_back(dt);
-    }
-    batch.graph_offsets.push_back(batch.last_positions.size());
-  }
-  const auto n = static_cast<int64_t>(batch.last_positions.size());
-  std::vector<int64_t> source, target;
-  for (std::size_t g = 0; g + 1 < batch.graph_offsets.size(); ++g) {
-    add_edges(batch.last_positions, batch.graph_offsets[g], batch.graph_offsets[g + 1] - batch.graph_offsets[g], shape,
-              source, target);
-  }
-  std::vector<float> offset;
-  offset.reserve(source.size() * 3);
-  for (std::size_t e = 0; e < source.size(); ++e) {
-    const Vector3d d = (batch.last_positions[static_cast<std::size_t>(source[e])] -
-                        batch.last_positions[static_cast<std::size_t>(target[e])]) /
-                       normalisation.length;
-    for (int axis = 0; axis < 3; ++axis) offset.push_back(static_cast<float>(d(axis)));
-  }
-  batch.motion = float_tensor(motion, {n, history, kMotionFeatures});
-  batch.last_velocity = float_tensor(last_velocity, {n, 3});
-  batch.horizon = float_tensor(horizon, {n, 1});
-  batch.last_interval = float_tensor(last_intervals, {n, 1});
-  const auto edges = static_cast<int64_t>(source.size());
-  batch.edge_source = torch::from_blob(source.data(), {edges}, torch::kInt64).clone();
-  batch.edge_target = torch::from_blob(target.data(), {edges}, torch::kInt64).clone();
-  batch.edge_offset = float_tensor(offset, {edges, 3});
+  MotionBatch batch{make_motion_features(graphs, shape, normalisation), {}};
+  const auto n = static_cast<int64_t>(batch.objects());
+  const auto edges = static_cast<int64_t>(batch.edges());
+  batch.tensors.motion = float_tensor(batch.motion, {n, batch.history, kMotionFeatures});
+  batch.tensors.last_velocity = float_tensor(batch.last_velocity, {n, 3});
+  batch.tensors.horizon = float_tensor(batch.horizon, {n, 1});
+  batch.tensors.last_interval = float_tensor(batch.last_interval, {n, 1});
+  batch.tensors.edge_source = torch::from_blob(batch.edge_source.data(), {edges}, torch::kInt64).clone();
+  batch.tensors.edge_target = torch::from_blob(batch.edge_target.data(), {edges}, torch::kInt64).clone();
+  batch.tensors.edge_offset = float_tensor(batch.edge_offset, {edges, 3});
   return batch;
 }
 
@@ -178,18 +83,18 @@ MotionNetworkImpl::MotionNetworkImpl(const MotionModelShape& shape)
 torch::Tensor MotionNetworkImpl::forward(const MotionBatch& batch) {
   // v̂ = v_last + â (Δt_last + Δt) / 2: the head predicts an acceleration â, and v_last, measured
   // over the last interval, lags the current velocity by half of it.
-  return batch.last_velocity + acceleration(batch) * (0.5 * (batch.last_interval + batch.horizon));
+  return batch.tensors.last_velocity + acceleration(batch) * (0.5 * (batch.tensors.last_interval + batch.tensors.horizon));
 }
 
 torch::Tensor MotionNetworkImpl::acceleration(const MotionBatch& batch) {
-  const torch::Tensor embedded = torch::relu(embed_(batch.motion));                 // [N, H, E]
+  const torch::Tensor embedded = torch::relu(embed_(batch.tensors.motion));                 // [N, H, E]
   const auto [sequence, state] = encoder_(embedded);
   const torch::Tensor motion_embedding = std::get<0>(state).squeeze(0);            // m: [N, hidden]
   const torch::Tensor cell = std::get<1>(state).squeeze(0);
   const torch::Tensor spatial = attention2_(
-      attention1_(motion_embedding, batch.edge_source, batch.edge_target, batch.edge_offset), batch.edge_source,
-      batch.edge_target, batch.edge_offset);                                        // s: [N, hidden]
-  const torch::Tensor input = torch::cat({motion_embedding, spatial, batch.last_velocity}, 1);
+      attention1_(motion_embedding, batch.tensors.edge_source, batch.tensors.edge_target, batch.tensors.edge_offset), batch.tensors.edge_source,
+      batch.tensors.edge_target, batch.tensors.edge_offset);                                        // s: [N, hidden]
+  const torch::Tensor input = torch::cat({motion_embedding, spatial, batch.tensors.last_velocity}, 1);
   const auto [decoded, decoded_cell] = decoder_(input, std::make_tuple(motion_embedding, cell));
   return head_(decoded);
 }
@@ -527,40 +432,88 @@ std::vector<std::vector<Vector3d>> MotionModel::Impl::positions_from(const detai
   return positions;
 }
 
-std::vector<std::vector<MotionForecast>> MotionModel::Impl::forecasts_from(const detail::MotionBatch& batch,
-                                                                       const torch::Tensor& acceleration) const {
+std::vector<std::vector<MotionForecast>> MotionModel::Impl::forecasts_from(const MotionFeatures& features,
+                                                                       const Eigen::Matrix3Xf& acceleration) const {
   // â (m/s²) = s_v / s_t · head; x̂(τ) = p_last + (v_last + â Δt_last / 2) τ + â τ² / 2 (motion_model.hpp).
-  const torch::Tensor a = acceleration.to(torch::kFloat64).contiguous();
-  const double* values = a.data_ptr<double>();
   const double scale = normalisation.speed / normalisation.period;
-  std::vector<std::vector<MotionForecast>> forecasts(batch.graph_offsets.size() - 1);
-  for (std::size_t g = 0; g + 1 < batch.graph_offsets.size(); ++g) {
-    for (std::size_t i = batch.graph_offsets[g]; i < batch.graph_offsets[g + 1]; ++i) {
+  std::vector<std::vector<MotionForecast>> forecasts(features.graph_offsets.size() - 1);
+  for (std::size_t g = 0; g + 1 < features.graph_offsets.size(); ++g) {
+    for (std::size_t i = features.graph_offsets[g]; i < features.graph_offsets[g + 1]; ++i) {
       MotionForecast forecast;
-      forecast.acceleration = scale * Vector3d(values[3 * i], values[3 * i + 1], values[3 * i + 2]);
-      forecast.velocity = batch.last_velocities[i] + 0.5 * batch.last_intervals[i] * forecast.acceleration;
+      forecast.acceleration = scale * acceleration.col(static_cast<Eigen::Index>(i)).cast<double>();
+      forecast.velocity = features.last_velocities[i] + 0.5 * features.last_intervals[i] * forecast.acceleration;
       forecasts[g].push_back(forecast);
     }
   }
   return forecasts;
 }
 
-std::vector<std::vector<MotionForecast>> MotionModel::forecast(std::span<const MotionGraph> graphs) const {
-  if (graphs.empty()) return {};
-  const detail::MotionBatch batch = detail::make_motion_batch(graphs, impl_->shape, impl_->normalisation);
-  if (batch.last_positions.empty()) return std::vector<std::vector<MotionForecast>>(graphs.size());
-  c10::InferenceMode inference;
-  impl_->network->eval();
-  return impl_->forecasts_from(batch, impl_->network->acceleration(batch));
+namespace {
+
+Eigen::MatrixXf matrix_of(const torch::Tensor& tensor) {
+  const torch::Tensor values = tensor.detach().to(torch::kFloat32).contiguous();
+  const auto rows = values.size(0);
+  const auto cols = values.dim() > 1 ? values.size(1) : 1;
+  // LibTorch is row-major.
+  return Eigen::Map<const Eigen::Matrix<float, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>>(
+      values.data_ptr<float>(), rows, cols);
 }
 
-std::vector<std::vector<Vector3d>> MotionModel::predict(std::span<const MotionGraph> graphs) const {
+Eigen::VectorXf vector_of(const torch::Tensor& tensor) {
+  const torch::Tensor values = tensor.detach().to(torch::kFloat32).contiguous().reshape({-1});
+  return Eigen::Map<const Eigen::VectorXf>(values.data_ptr<float>(), values.size(0));
+}
+
+// The network's weights by their LibTorch names (motion_network.hpp registers them).
+MotionNetworkWeights weights_of(const detail::MotionNetwork& network) {
+  const auto parameters = network->named_parameters();
+  const auto get = [&](const std::string& name) {
+    const torch::Tensor* found = parameters.find(name);
+    if (found == nullptr) throw std::logic_error("motion network has no parameter " + name);
+    return *found;
+  };
+  const auto lstm = [&](const std::string& prefix, const std::string& suffix) {
+    return MotionNetworkWeights::Lstm{matrix_of(get(prefix + ".weight_ih" + suffix)),
+                                      matrix_of(get(prefix + ".weight_hh" + suffix)),
+                                      vector_of(get(prefix + ".bias_ih" + suffix) + get(prefix + ".bias_hh" + suffix))};
+  };
+  const auto attention = [&](const std::string& prefix) {
+    return MotionNetworkWeights::GraphAttention{
+        matrix_of(get(prefix + ".transform.weight")), matrix_of(get(prefix + ".offset_transform.weight")),
+        vector_of(get(prefix + ".offset_transform.bias")), vector_of(get(prefix + ".score_self.weight")),
+        vector_of(get(prefix + ".score_message.weight"))};
+  };
+  MotionNetworkWeights weights;
+  weights.embed = matrix_of(get("embed.weight"));
+  weights.embed_bias = vector_of(get("embed.bias"));
+  weights.encoder = lstm("encoder", "_l0");
+  weights.attention1 = attention("attention1");
+  weights.attention2 = attention("attention2");
+  weights.decoder = lstm("decoder", "");
+  weights.head = matrix_of(get("head.weight"));
+  weights.head_bias = vector_of(get("head.bias"));
+  return weights;
+}
+
+}  // namespace
+
+std::shared_ptr<const MotionInference> MotionModel::Impl::inference() const {
+  // Every in-place change of a parameter (an optimizer step, a load) bumps its version counter.
+  std::int64_t version = 0;
+  for (const torch::Tensor& parameter : network->parameters()) version += static_cast<std::int64_t>(parameter._version());
+  const std::lock_guard lock(inference_mutex_);
+  if (!inference_ || version != inference_weights_version_) {
+    inference_ = std::make_shared<const MotionInference>(weights_of(network));
+    inference_weights_version_ = version;
+  }
+  return inference_;
+}
+
+std::vector<std::vector<MotionForecast>> MotionModel::forecast(std::span<const MotionGraph> graphs) const {
   if (graphs.empty()) return {};
-  const detail::MotionBatch batch = detail::make_motion_batch(graphs, impl_->shape, impl_->normalisation);
-  if (batch.last_positions.empty()) return std::vector<std::vector<Vector3d>>(graphs.size());
-  c10::InferenceMode inference;  // no autograd bookkeeping at all: cheaper than NoGradGuard
-  impl_->network->eval();
-  return impl_->positions_from(batch, impl_->network->forward(batch));
+  const MotionFeatures features = make_motion_features(graphs, impl_->shape, impl_->normalisation);
+  if (features.objects() == 0) return std::vector<std::vector<MotionForecast>>(graphs.size());
+  return impl_->forecasts_from(features, impl_->inference()->accelerations(features));
 }
 
 Matrix3d MotionModel::process_noise(double dt) const {

@@ -98,12 +98,11 @@ class MotionModel final : public MotionPredictor {
   // Writes weights, shape, normalisation, Q and `metadata` (any JSON object) to `path`, whole or not at all.
   void save(const std::string& path, const nlohmann::json& metadata = nlohmann::json::object()) const;
 
-  // Predicted positions at each graph's target time, per graph and object, in order. Graphs are
-  // batched into one forward pass. An object with a single history position gets Φ's prediction
-  // with zero velocity input (in practice: the constant-position model plus what its neighbours say).
-  std::vector<std::vector<Vector3d>> predict(std::span<const MotionGraph> graphs) const override;
-  // The same prediction as a forecast f(τ) = (v_last + â Δt_last / 2) τ + â τ² / 2, for any τ
-  // (the graphs' target times only need to follow their histories).
+  // Φ's forecast f(τ) = (v_last + â Δt_last / 2) τ + â τ² / 2 of every object, for any τ (the graphs'
+  // target times only need to follow their histories); predict() evaluates it at the target times.
+  // An object with a single history position gets Φ's forecast with zero velocity input (in practice:
+  // the constant-position model plus what its neighbours say). Runs the Eigen forward pass
+  // (motion_inference.hpp): each object's forecast depends on its own graph only, not on the batch.
   std::vector<std::vector<MotionForecast>> forecast(std::span<const MotionGraph> graphs) const override;
 
   // Q for a prediction interval of `dt` seconds.

@@ -5,29 +5,29 @@
 
 #include <torch/torch.h>
 
+#include <cstdint>
+#include <memory>
+#include <mutex>
 #include <span>
 #include <vector>
 
+#include "stgf/learn/motion_features.hpp"
+#include "stgf/learn/motion_inference.hpp"
 #include "stgf/learn/motion_model.hpp"
 
 namespace stgf::detail {
 
-// A batch of graphs as tensors (float32). Positions never enter the network as absolute values:
-// only differences, computed in double before conversion, so world coordinates of any size work.
-struct MotionBatch {
-  torch::Tensor motion;           // [N, H, 7]: v_k / s_v (3), a_k s_t / s_v (3), valid
-  torch::Tensor last_velocity;    // [N, 3]: v_last / s_v (zero without a velocity)
-  torch::Tensor horizon;          // [N, 1]: Δt / s_t
-  torch::Tensor last_interval;    // [N, 1]: Δt_last / s_t (zero without a velocity)
-  torch::Tensor edge_source;      // [E] int64: neighbour j
-  torch::Tensor edge_target;      // [E] int64: object i that attends to j
-  torch::Tensor edge_offset;      // [E, 3]: (p_j − p_i) / s_p
-  // Per object, in double, to turn the predicted velocity into a position.
-  std::vector<Vector3d> last_positions;
-  std::vector<double> horizons;   // Δt (s)
-  std::vector<Vector3d> last_velocities;  // v_last (m/s), zero without a velocity
-  std::vector<double> last_intervals;     // Δt_last (s), zero without a velocity
-  std::vector<std::size_t> graph_offsets;  // first object of each graph; size = graphs + 1
+// A batch of graphs: Φ's inputs (motion_features.hpp) and the same numbers as LibTorch tensors.
+struct MotionBatch : MotionFeatures {
+  struct Tensors {
+    torch::Tensor motion;         // [N, H, 7]
+    torch::Tensor last_velocity;  // [N, 3]
+    torch::Tensor horizon;        // [N, 1]
+    torch::Tensor last_interval;  // [N, 1]
+    torch::Tensor edge_source;    // [E] int64
+    torch::Tensor edge_target;    // [E] int64
+    torch::Tensor edge_offset;    // [E, 3]
+  } tensors;
 };
 
 MotionBatch make_motion_batch(std::span<const MotionGraph> graphs, const MotionModelShape& shape,
@@ -84,9 +84,18 @@ struct MotionModel::Impl {
   // Positions predicted from the network's velocities (double precision).
   std::vector<std::vector<Vector3d>> positions_from(const detail::MotionBatch& batch,
                                                     const torch::Tensor& velocity) const;
-  // Forecasts from the network's accelerations (double precision).
-  std::vector<std::vector<MotionForecast>> forecasts_from(const detail::MotionBatch& batch,
-                                                         const torch::Tensor& acceleration) const;
+  // Forecasts from the network's accelerations â (units of s_v / s_t, one column per object).
+  std::vector<std::vector<MotionForecast>> forecasts_from(const MotionFeatures& features,
+                                                         const Eigen::Matrix3Xf& acceleration) const;
+  // The Eigen forward pass (motion_inference.hpp) that forecast() runs, made from the network's current
+  // weights: built on first use and again whenever a weight has changed since (training, loading),
+  // which LibTorch's per-tensor version counters tell.
+  std::shared_ptr<const MotionInference> inference() const;
+
+ private:
+  mutable std::mutex inference_mutex_;
+  mutable std::shared_ptr<const MotionInference> inference_;
+  mutable std::int64_t inference_weights_version_ = -1;
 };
 
 // Reads the optimizer state stored by Impl::save into `optimizer`; false when the file has none.

@@ -3,9 +3,9 @@
 // `ours` over a whole measurement list, fast: one SceneFilter per scene (core/scene_filter.hpp), and
 // the scenes of a block of a few hundred advanced together: each runs until it needs forecasts, and
 // the forecasts of every waiting scene come from a few batched passes of the predictor, instead of one
-// small pass per scene and time. Scenes are independent, so the result is that of running each
-// scene's filter alone, up to the floating-point effect of batch size on the predictor's matrix
-// products (about 1e-7 m with Φ in single precision; exact for predictors that treat graphs one by one).
+// small pass per scene and time. Scenes are independent, and Φ computes each object from its own
+// graph alone (learn/motion_inference.hpp), so the result is bitwise that of running each scene's
+// filter alone.
 //
 // Delivery. Without arrival times (no row has one), each scene's rows are given step by step in time
 // order (core/steps.hpp), and nothing can be late: the lag window plays no part. With arrival times

@@ -101,8 +101,8 @@ TEST(MotionModel, RaggedBatchesGiveOnePredictionPerObject) {
   }
   // Edges: 3 objects fully connected (9), 7 objects by 2 nearest plus self (21), 1 object (1).
   const detail::MotionBatch batch = detail::make_motion_batch(graphs, tiny_shape(), MotionNormalisation{});
-  EXPECT_EQ(batch.edge_source.size(0), 1 + 9 + 21);
-  EXPECT_EQ(batch.motion.sizes(), (std::vector<int64_t>{11, 4, 7}));
+  EXPECT_EQ(batch.tensors.edge_source.size(0), 1 + 9 + 21);
+  EXPECT_EQ(batch.tensors.motion.sizes(), (std::vector<int64_t>{11, 4, 7}));
 }
 
 TEST(MotionModel, GradientsReachEveryParameter) {
