@@ -2,6 +2,8 @@
 #include "stgf/learn/motion_features.hpp"
 
 #include <algorithm>
+#include <cmath>
+#include <cstdlib>
 #include <stdexcept>
 #include <utility>
 
@@ -10,31 +12,106 @@
 namespace stgf {
 namespace {
 
+// The k nearest of each of the n objects at positions[first …], as (squared distance, index within
+// the graph) sorted by distance, then index: the order comparing every pair gives. A uniform grid
+// over x–y with about k objects per cell is searched in growing square rings of cells around each
+// object until no cell left can hold anything as close as the k-th found (3-D distances are at least
+// the x–y ones), so a graph costs O(n k) for evenly spread objects, not O(n²).
+class NearestNeighbours {
+ public:
+  NearestNeighbours(const std::vector<Vector3d>& positions, std::size_t first, std::size_t n, std::size_t k)
+      : positions_(positions), first_(first), k_(std::min(k, n - 1)) {
+    Eigen::Vector2d low = positions[first].head<2>(), high = low;
+    for (std::size_t i = 0; i < n; ++i) {
+      low = low.cwiseMin(positions[first + i].head<2>());
+      high = high.cwiseMax(positions[first + i].head<2>());
+    }
+    low_ = low;
+    const Eigen::Vector2d extent = high - low;
+    // About k objects per cell over the occupied area, and at most 4n cells along either side (a
+    // thin strip of objects has almost no area).
+    const double per_cell = static_cast<double>(std::max<std::size_t>(k_, 1));
+    cell_ = std::max(std::sqrt(extent.x() * extent.y() * per_cell / static_cast<double>(n)),
+                     extent.maxCoeff() / (4.0 * static_cast<double>(n)));
+    if (!(cell_ > 0.0) || !std::isfinite(cell_)) cell_ = 1.0;  // every object at one spot: one cell
+    columns_ = cell_of(high.x() - low.x()) + 1;
+    rows_ = cell_of(high.y() - low.y()) + 1;
+    start_.assign(static_cast<std::size_t>(columns_ * rows_) + 1, 0);
+    for (std::size_t i = 0; i < n; ++i) ++start_[index_of(i) + 1];
+    for (std::size_t c = 1; c < start_.size(); ++c) start_[c] += start_[c - 1];
+    members_.resize(n);
+    std::vector<std::size_t> next(start_.begin(), start_.end() - 1);
+    for (std::size_t i = 0; i < n; ++i) members_[next[index_of(i)]++] = i;  // ascending within a cell
+  }
+
+  // Object i's k nearest (never itself).
+  const std::vector<std::pair<double, std::size_t>>& of(std::size_t i) {
+    found_.clear();
+    const Vector3d& p = positions_[first_ + i];
+    const long column = cell_of(p.x() - low_.x());
+    const long row = cell_of(p.y() - low_.y());
+    for (long ring = 0;; ++ring) {
+      for (long r = row - ring; r <= row + ring; ++r) {
+        for (long c = column - ring; c <= column + ring; ++c) {
+          if (std::max(std::abs(r - row), std::abs(c - column)) != ring) continue;  // the ring's border only
+          if (r < 0 || r >= rows_ || c < 0 || c >= columns_) continue;
+          const auto cell = static_cast<std::size_t>(r * columns_ + c);
+          for (std::size_t m = start_[cell]; m < start_[cell + 1]; ++m) {
+            const std::size_t j = members_[m];
+            if (j != i) found_.emplace_back((positions_[first_ + j] - p).squaredNorm(), j);
+          }
+        }
+      }
+      const bool everything_seen = ring > std::max({row, column, rows_ - 1 - row, columns_ - 1 - column});
+      if (found_.size() >= k_) {
+        std::partial_sort(found_.begin(), found_.begin() + static_cast<std::ptrdiff_t>(k_), found_.end());
+        // Cells beyond this ring lie at least ring × cell away in x or y.
+        const double beyond = static_cast<double>(ring) * cell_;
+        if (everything_seen || k_ == 0 || found_[k_ - 1].first < beyond * beyond) break;
+      } else if (everything_seen) {
+        break;
+      }
+    }
+    found_.resize(std::min(found_.size(), k_));
+    return found_;
+  }
+
+ private:
+  long cell_of(double offset) const { return static_cast<long>(std::floor(offset / cell_)); }
+  std::size_t index_of(std::size_t i) const {
+    const Vector3d& p = positions_[first_ + i];
+    return static_cast<std::size_t>(cell_of(p.y() - low_.y()) * columns_ + cell_of(p.x() - low_.x()));
+  }
+
+  const std::vector<Vector3d>& positions_;
+  std::size_t first_, k_;
+  Eigen::Vector2d low_;
+  double cell_ = 1.0;
+  long columns_ = 1, rows_ = 1;
+  std::vector<std::size_t> start_;    // per cell, into members_
+  std::vector<std::size_t> members_;  // objects by cell
+  std::vector<std::pair<double, std::size_t>> found_;
+};
+
 // Edges (j → i) of one graph of n objects starting at `first`: all pairs when small, else the k
-// nearest neighbours of each object; always the self-loop.
+// nearest neighbours of each object; always the self-loop. Grouped by target i, ascending.
 void add_edges(const std::vector<Vector3d>& positions, std::size_t first, std::size_t n, const MotionModelShape& shape,
                std::vector<std::int64_t>& source, std::vector<std::int64_t>& target) {
-  const auto full = static_cast<std::size_t>(shape.max_fully_connected);
-  const auto k = static_cast<std::size_t>(shape.nearest_neighbours);
-  std::vector<std::pair<double, std::size_t>> distances;
-  for (std::size_t i = 0; i < n; ++i) {
-    if (n <= full) {
+  if (n <= static_cast<std::size_t>(shape.max_fully_connected)) {
+    for (std::size_t i = 0; i < n; ++i) {
       for (std::size_t j = 0; j < n; ++j) {
         source.push_back(static_cast<std::int64_t>(first + j));
         target.push_back(static_cast<std::int64_t>(first + i));
       }
-      continue;
     }
-    distances.clear();
-    for (std::size_t j = 0; j < n; ++j) {
-      if (j != i) distances.emplace_back((positions[first + j] - positions[first + i]).squaredNorm(), j);
-    }
-    const std::size_t count = std::min(k, distances.size());
-    std::partial_sort(distances.begin(), distances.begin() + static_cast<std::ptrdiff_t>(count), distances.end());
+    return;
+  }
+  NearestNeighbours nearest(positions, first, n, static_cast<std::size_t>(shape.nearest_neighbours));
+  for (std::size_t i = 0; i < n; ++i) {
     source.push_back(static_cast<std::int64_t>(first + i));
     target.push_back(static_cast<std::int64_t>(first + i));
-    for (std::size_t m = 0; m < count; ++m) {
-      source.push_back(static_cast<std::int64_t>(first + distances[m].second));
+    for (const auto& [distance, j] : nearest.of(i)) {
+      source.push_back(static_cast<std::int64_t>(first + j));
       target.push_back(static_cast<std::int64_t>(first + i));
     }
   }

@@ -1,0 +1,102 @@
+// SPDX-License-Identifier: Apache-2.0
+// One step of `ours` as the filter runs it (core/scene_filter.hpp): every view's measurements of
+// every object at one time go in, Φ forecasts the tracks that need it (the Eigen forward pass, one
+// graph per scene), each object is predicted and updated with all its views, and every row's estimate
+// comes out. Φ has the default shape (history 8, hidden 32) with untrained weights (its cost does not
+// depend on the values); in-order data (no lag window, as `stgf run` without an arrival column).
+//
+//   build/bench/bench_ours_step --benchmark_min_time=1
+//
+// BM_OursStep/objects/views/registration: objects walk on circles around their own centres, spread
+// over a square of side 2 √objects m; every view measures every object (R = 0.05² m² I, each view
+// with its own offset). registration = 1 estimates the views' offsets jointly with the positions
+// (the prior of the mpl benchmark), 0 turns that off. items = object-views.
+
+#include <cmath>
+#include <random>
+
+#include <benchmark/benchmark.h>
+
+#include "stgf/core/scene_filter.hpp"
+#include "stgf/learn/motion_model.hpp"
+
+namespace stgf {
+namespace {
+
+constexpr double kPeriod = 0.1;  // s
+constexpr int kSteps = 100;      // steps generated; the filter starts again after them
+
+// kSteps steps of measurements: step → rows.
+std::vector<std::vector<Measurement>> make_steps(int objects, int views) {
+  std::mt19937_64 random(7);
+  std::normal_distribution<double> normal(0.0, 1.0);
+  std::uniform_real_distribution<double> uniform(0.0, 1.0);
+  const double side = 2.0 * std::sqrt(static_cast<double>(objects));
+  std::vector<Vector3d> centres, offsets;
+  for (int i = 0; i < objects; ++i) centres.emplace_back(side * uniform(random), side * uniform(random), 0.0);
+  for (int v = 0; v < views; ++v) offsets.emplace_back(0.05 * normal(random), 0.05 * normal(random), 0.0);
+  const Matrix3d r = 0.05 * 0.05 * Matrix3d::Identity();
+  std::vector<std::vector<Measurement>> steps(kSteps);
+  for (int k = 0; k < kSteps; ++k) {
+    const double t = kPeriod * k;
+    for (int i = 0; i < objects; ++i) {
+      const double phase = 0.5 * t + i;
+      const Vector3d truth = centres[i] + Vector3d(std::cos(phase), std::sin(phase), 0.0);
+      for (int v = 0; v < views; ++v) {
+        const Vector3d noise(0.05 * normal(random), 0.05 * normal(random), 0.05 * normal(random));
+        steps[k].push_back(Measurement{"scene", t, "v" + std::to_string(v), "o" + std::to_string(i),
+                                       Gaussian3::from_covariance(truth + offsets[v] + noise, r), std::nullopt});
+      }
+    }
+  }
+  return steps;
+}
+
+void BM_OursStep(benchmark::State& state) {
+  const int objects = static_cast<int>(state.range(0));
+  const int views = static_cast<int>(state.range(1));
+  FilterOptions options;
+  options.lag_window = 0.0;
+  if (state.range(2) != 0) {
+    options.registration.translation_sigma = Vector3d(0.1, 0.1, 0.0);
+    options.registration.noise_ratio = 0.5;
+  }
+  const MotionModel model(MotionModelShape{}, MotionNormalisation{0.5, kPeriod, 5.0, 3 * kPeriod}, 1);
+  const std::vector<std::vector<Measurement>> steps = make_steps(objects, views);
+  std::vector<std::vector<const Measurement*>> pointers(steps.size());
+  std::vector<std::size_t> ids;
+  for (std::size_t k = 0; k < steps.size(); ++k) {
+    for (const Measurement& row : steps[k]) pointers[k].push_back(&row);
+  }
+  ids.resize(pointers[0].size());
+  auto filter = std::make_unique<SceneFilter>(model, options);
+  std::size_t step = 0;
+  for (auto _ : state) {
+    if (step == steps.size()) {
+      state.PauseTiming();
+      filter = std::make_unique<SceneFilter>(model, options);
+      step = 0;
+      state.ResumeTiming();
+    }
+    filter->receive(pointers[step], ids);
+    while (!filter->advance()) filter->provide_forecasts(model.forecast(filter->forecast_request()));
+    auto results = filter->take_results();
+    benchmark::DoNotOptimize(results);
+    ++step;
+  }
+  state.SetItemsProcessed(state.iterations() * objects * views);
+}
+BENCHMARK(BM_OursStep)
+    ->Args({4, 7, 1})
+    ->Args({4, 7, 0})
+    ->Args({10, 1, 1})
+    ->Args({10, 4, 1})
+    ->Args({100, 8, 1})
+    ->Args({100, 8, 0})
+    ->Args({1000, 16, 0})
+    ->Unit(benchmark::kMicrosecond);
+
+}  // namespace
+}  // namespace stgf
+
+BENCHMARK_MAIN();
