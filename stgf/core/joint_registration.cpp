@@ -6,160 +6,176 @@
 
 namespace stgf {
 using Matrix36 = Eigen::Matrix<double, 3, 6>;
+using Matrix3X = Eigen::Matrix<double, 3, Eigen::Dynamic>;
+
+namespace {
+
+// M Σ for a 3-row M: coefficient by coefficient (Eigen's blocked product would repack Σ every call,
+// which at these shapes costs more than the arithmetic).
+Matrix3X times(const Matrix3X& m, const Eigen::MatrixXd& sigma) { return m.lazyProduct(sigma); }
+
+// M Σ Mᵀ for a 3-row M.
+Matrix3d quadratic_form(const Matrix3X& m, const Eigen::MatrixXd& sigma) {
+  return times(m, sigma).lazyProduct(m.transpose());
+}
+
+}  // namespace
 
 JointRegistration::JointRegistration(const RegistrationPrior& prior)
     : prior_(prior), prior_covariance_(prior.covariance()) {}
 
-Eigen::Index JointRegistration::grow(Eigen::Index size) {
-  const Eigen::Index start = mean_.size();
-  mean_.conservativeResize(start + size);
-  mean_.tail(size).setZero();
-  covariance_.conservativeResize(start + size, start + size);
-  covariance_.rightCols(size).setZero();
-  covariance_.bottomRows(size).setZero();
-  return start;
-}
-
-Eigen::Index JointRegistration::view_index(std::string_view view) const {
+const JointRegistration::ViewBlocks* JointRegistration::view_blocks(std::string_view view) const {
   const auto found = views_.find(view);
-  return found == views_.end() ? -1 : found->second;
+  return found == views_.end() ? nullptr : &found->second;
 }
 
-Eigen::Index JointRegistration::add_view(std::string_view view) {
-  if (prior_.is_zero()) return -1;
-  if (const Eigen::Index known = view_index(view); known >= 0) return known;
-  const Eigen::Index start = grow(6);
-  covariance_.block<6, 6>(start, start) = prior_covariance_;
-  views_.emplace(std::string(view), start);
+Eigen::Index JointRegistration::grow_offsets(const Eigen::MatrixXd& covariance) {
+  const Eigen::Index start = offsets_mean_.size();
+  const Eigen::Index size = covariance.rows();
+  offsets_mean_.conservativeResize(start + size);
+  offsets_mean_.tail(size).setZero();
+  offsets_covariance_.conservativeResize(start + size, start + size);
+  offsets_covariance_.rightCols(size).setZero();
+  offsets_covariance_.bottomRows(size).setZero();
+  offsets_covariance_.bottomRightCorner(size, size) = covariance;
+  for (auto& [name, object] : objects_) {
+    object.offsets.conservativeResize(Eigen::NoChange, start + size);
+    object.offsets.rightCols(size).setZero();  // no position depends on the new block
+  }
   return start;
+}
+
+const JointRegistration::ViewBlocks* JointRegistration::add_view(std::string_view view) {
+  if (prior_.is_zero()) return nullptr;
+  if (const ViewBlocks* known = view_blocks(view)) return known;
+  const Eigen::Index start = grow_offsets(prior_covariance_);
+  return &views_.emplace(std::string(view), ViewBlocks{start, {}}).first->second;
+}
+
+Eigen::MatrixXd JointRegistration::offset_selector(const ViewBlocks& view) const {
+  Eigen::MatrixXd selector = Eigen::MatrixXd::Zero(6, offsets_mean_.size());
+  selector.middleCols<6>(view.offset).setIdentity();
+  for (const Eigen::Index jump : view.jumps) selector.block<3, 3>(0, jump).setIdentity();
+  return selector;
+}
+
+const JointRegistration::ObjectState& JointRegistration::object_state(std::string_view object) const {
+  const auto found = objects_.find(object);
+  if (found == objects_.end()) throw std::logic_error("JointRegistration: unknown object");
+  return found->second;
+}
+
+Matrix3X JointRegistration::measurement_offsets(const ObjectState& object,
+                                                                              const ViewBlocks* view,
+                                                                              const Matrix36& h) const {
+  Matrix3X c = object.offsets;
+  if (view == nullptr) return c;
+  c.middleCols<6>(view->offset) += h;
+  for (const Eigen::Index jump : view->jumps) c.middleCols<3>(jump) += h.leftCols<3>();  // H_u's t part: I₃
+  return c;
 }
 
 void JointRegistration::add_object(const Measurement& first, double noise_scale) {
   if (has_object(first.object)) throw std::logic_error("JointRegistration::add_object: object already known");
-  const Eigen::Index u = add_view(first.view);
+  const ViewBlocks* view = add_view(first.view);
   const Matrix3d& r = first.position.covariance();
-  Vector3d mean = first.position.mean();
-  Matrix3d covariance = noise_scale * r;
-  Eigen::MatrixXd cross;  // Σ_{i,·} = −H_u Σ_{u,·}
-  if (u >= 0) {
-    const Matrix36 h = offset_jacobian(r);
-    mean -= h * mean_.segment<6>(u);
-    cross = -h * covariance_.middleRows<6>(u);
-    covariance += h * covariance_.block<6, 6>(u, u) * h.transpose();
-  }
-  const Eigen::Index i = grow(3);
-  mean_.segment<3>(i) = mean;
-  if (u >= 0) {
-    covariance_.block(i, 0, 3, i) = cross;
-    covariance_.block(0, i, i, 3) = cross.transpose();
-  }
-  covariance_.block<3, 3>(i, i) = symmetrised(covariance);
-  objects_.emplace(first.object, i);
+  // p = z − H_u β_u − e: a = z − e, B = −C with C of a position that does not depend on β.
+  ObjectState object{first.position.mean(), noise_scale * r,
+                     Matrix3X::Zero(3, offsets_mean_.size())};
+  object.offsets = -measurement_offsets(object, view, offset_jacobian(r));
+  objects_.emplace(first.object, std::move(object));
 }
 
 void JointRegistration::remove_object(std::string_view object) {
   const auto found = objects_.find(object);
-  if (found == objects_.end()) return;
-  const Eigen::Index i = found->second;
-  const Eigen::Index size = mean_.size();
-  const Eigen::Index after = size - i - 3;
-  Eigen::VectorXd mean(size - 3);
-  mean << mean_.head(i), mean_.tail(after);
-  Eigen::MatrixXd covariance(size - 3, size - 3);
-  covariance.topLeftCorner(i, i) = covariance_.topLeftCorner(i, i);
-  covariance.topRightCorner(i, after) = covariance_.topRightCorner(i, after);
-  covariance.bottomLeftCorner(after, i) = covariance_.bottomLeftCorner(after, i);
-  covariance.bottomRightCorner(after, after) = covariance_.bottomRightCorner(after, after);
-  mean_ = std::move(mean);
-  covariance_ = std::move(covariance);
-  objects_.erase(found);
-  for (auto* blocks : {&objects_, &views_}) {
-    for (auto& [name, start] : *blocks) {
-      if (start > i) start -= 3;
-    }
-  }
+  if (found != objects_.end()) objects_.erase(found);
 }
 
 void JointRegistration::predict(std::string_view object, const Vector3d& displacement, const Matrix3d& process_noise) {
-  const Eigen::Index i = objects_.find(object)->second;
-  mean_.segment<3>(i) += displacement;
-  covariance_.block<3, 3>(i, i) += process_noise;
+  const auto found = objects_.find(object);
+  if (found == objects_.end()) throw std::logic_error("JointRegistration::predict: unknown object");
+  found->second.mean += displacement;
+  found->second.covariance += process_noise;
 }
 
 void JointRegistration::release_offset(std::string_view view, const Matrix3d& covariance) {
-  const Eigen::Index u = view_index(view);
-  if (u < 0) return;
-  covariance_.block<3, 3>(u, u) += symmetrised(covariance);
+  if (view_blocks(view) == nullptr) return;
+  const Eigen::Index jump = grow_offsets(symmetrised(covariance));
+  views_.find(view)->second.jumps.push_back(jump);
 }
 
 JointRegistration::Innovation JointRegistration::innovation(const Measurement& measurement, double noise_scale) const {
-  const Eigen::Index i = objects_.find(measurement.object)->second;
-  const Eigen::Index u = view_index(measurement.view);
+  const ObjectState& object = object_state(measurement.object);
+  const ViewBlocks* view = view_blocks(measurement.view);
   const Matrix3d& r = measurement.position.covariance();
-  Innovation result{measurement.position.mean() - mean_.segment<3>(i), covariance_.block<3, 3>(i, i) + noise_scale * r};
-  if (!prior_.is_zero()) {
-    const Matrix36 h = offset_jacobian(r);
-    if (u < 0) {
-      result.covariance += h * prior_covariance_ * h.transpose();
-    } else {
-      const Matrix3d cross = covariance_.block<3, 6>(i, u) * h.transpose();  // Σ_iu Hᵀ
-      result.value -= h * mean_.segment<6>(u);
-      result.covariance += h * covariance_.block<6, 6>(u, u) * h.transpose() + cross + cross.transpose();
-    }
-  }
+  const Matrix36 h = offset_jacobian(r);
+  // ν = z − p̂_i − H_u β̂_u = z − â_i − C β̂,  S = P_i + C Σ_β Cᵀ + μR (+ H_u Σ_prior H_uᵀ for a view not yet seen).
+  const Matrix3X c = measurement_offsets(object, view, h);
+  Innovation result{measurement.position.mean() - object.mean - c * offsets_mean_,
+                    object.covariance + quadratic_form(c, offsets_covariance_) + noise_scale * r};
+  if (view == nullptr && !prior_.is_zero()) result.covariance += h * prior_covariance_ * h.transpose();
   result.covariance = symmetrised(result.covariance);
   return result;
 }
 
 void JointRegistration::update(const Measurement& measurement, double noise_scale) {
-  const auto found = objects_.find(measurement.object);
-  if (found == objects_.end()) throw std::logic_error("JointRegistration::update: unknown object");
-  const Eigen::Index i = found->second;
-  const Eigen::Index u = add_view(measurement.view);
+  if (!has_object(measurement.object)) throw std::logic_error("JointRegistration::update: unknown object");
+  const ViewBlocks* view = add_view(measurement.view);
+  ObjectState& object = objects_.find(measurement.object)->second;
   const Matrix3d& r = measurement.position.covariance();
-  // A = Σ Hᵀ (every entry against the measurement), S = H A + R.
-  Eigen::MatrixXd a = covariance_.middleCols<3>(i);
-  Vector3d innovation = measurement.position.mean() - mean_.segment<3>(i);
-  Matrix36 h;
-  if (u >= 0) {
-    h = offset_jacobian(r);
-    a.noalias() += covariance_.middleCols<6>(u) * h.transpose();
-    innovation -= h * mean_.segment<6>(u);
+  const Vector3d& z = measurement.position.mean();
+  const Matrix3X c = measurement_offsets(object, view, offset_jacobian(r));
+  const Matrix3d t = symmetrised(object.covariance + noise_scale * r);  // T = P_i + μR
+  // The offsets: z − â_i = C β + (a_i − â_i + e), noise T.
+  const Matrix3X c_sigma = times(c, offsets_covariance_);  // C Σ_β
+  const Eigen::LLT<Matrix3d> s_factor(symmetrised(c_sigma.lazyProduct(c.transpose()) + t));
+  if (s_factor.info() != Eigen::Success) {
+    throw std::runtime_error("registration: innovation covariance not positive definite");
   }
-  Matrix3d s = a.middleRows<3>(i) + noise_scale * r;
-  if (u >= 0) s += h * a.middleRows<6>(u);
-  const Eigen::LLT<Matrix3d> factor(symmetrised(s));
-  if (factor.info() != Eigen::Success) throw std::runtime_error("registration: innovation covariance not positive definite");
-  const Eigen::MatrixXd gain_transposed = factor.solve(a.transpose());  // Kᵀ = S⁻¹ Aᵀ
-  mean_.noalias() += gain_transposed.transpose() * innovation;
-  covariance_.noalias() -= a * gain_transposed;  // Σ − A S⁻¹ Aᵀ
-  covariance_ = 0.5 * (covariance_ + covariance_.transpose()).eval();
+  const Vector3d innovation = z - object.mean - c * offsets_mean_;
+  const Matrix3X gain_transposed = s_factor.solve(c_sigma);  // Kᵀ = S⁻¹ C Σ_β
+  offsets_mean_.noalias() += gain_transposed.transpose() * innovation;
+  // Σ_β − Σ_β Cᵀ S⁻¹ C Σ_β, its lower triangle mirrored: symmetric exactly.
+  offsets_covariance_.noalias() -= c_sigma.transpose() * gain_transposed;
+  offsets_covariance_.triangularView<Eigen::StrictlyUpper>() = offsets_covariance_.transpose();
+  // The object's own part, given β: z − C β = a_i + e.
+  const Eigen::LLT<Matrix3d> t_factor(t);
+  if (t_factor.info() != Eigen::Success) throw std::runtime_error("registration: P + R not positive definite");
+  const Matrix3d gain = t_factor.solve(object.covariance).transpose();  // P_i T⁻¹ (P_i, T symmetric)
+  object.mean += gain * (z - object.mean);
+  object.offsets -= gain * c;
+  object.covariance = symmetrised(object.covariance - gain * object.covariance);
 }
 
 Gaussian3 JointRegistration::corrected(const Measurement& measurement, double noise_scale) const {
-  const Eigen::Index u = view_index(measurement.view);
   const Matrix3d& r = measurement.position.covariance();
   if (prior_.is_zero() && noise_scale == 1.0) return measurement.position;
   if (prior_.is_zero()) return Gaussian3::from_covariance(measurement.position.mean(), noise_scale * r);
   const Matrix36 h = offset_jacobian(r);
-  const Eigen::Matrix<double, 6, 1> offset = u < 0 ? Eigen::Matrix<double, 6, 1>::Zero() : Eigen::Matrix<double, 6, 1>(mean_.segment<6>(u));
-  const Eigen::Matrix<double, 6, 6> spread = u < 0 ? prior_covariance_ : Eigen::Matrix<double, 6, 6>(covariance_.block<6, 6>(u, u));
-  return Gaussian3::from_covariance(measurement.position.mean() - h * offset, noise_scale * r + h * spread * h.transpose());
+  return Gaussian3::from_covariance(measurement.position.mean() - h * offset(measurement.view),
+                                    noise_scale * r + h * offset_covariance(measurement.view) * h.transpose());
 }
 
 Gaussian3 JointRegistration::position(std::string_view object) const {
-  const Eigen::Index i = objects_.find(object)->second;
-  return Gaussian3::from_covariance(mean_.segment<3>(i), covariance_.block<3, 3>(i, i));
+  const ObjectState& state = object_state(object);
+  // p_i = a_i + B_i β: mean â_i + B_i β̂, covariance P_i + B_i Σ_β B_iᵀ.
+  return Gaussian3::from_covariance(state.mean + state.offsets * offsets_mean_,
+                                    symmetrised(state.covariance + quadratic_form(state.offsets, offsets_covariance_)));
 }
 
 Eigen::Matrix<double, 6, 1> JointRegistration::offset(std::string_view view) const {
-  const Eigen::Index u = view_index(view);
-  return u < 0 ? Eigen::Matrix<double, 6, 1>::Zero() : Eigen::Matrix<double, 6, 1>(mean_.segment<6>(u));
+  const ViewBlocks* blocks = view_blocks(view);
+  if (blocks == nullptr) return Eigen::Matrix<double, 6, 1>::Zero();
+  if (blocks->jumps.empty()) return offsets_mean_.segment<6>(blocks->offset);
+  return offset_selector(*blocks) * offsets_mean_;
 }
 
 Eigen::Matrix<double, 6, 6> JointRegistration::offset_covariance(std::string_view view) const {
-  const Eigen::Index u = view_index(view);
-  return u < 0 ? prior_covariance_ : Eigen::Matrix<double, 6, 6>(covariance_.block<6, 6>(u, u));
+  const ViewBlocks* blocks = view_blocks(view);
+  if (blocks == nullptr) return prior_covariance_;
+  if (blocks->jumps.empty()) return offsets_covariance_.block<6, 6>(blocks->offset, blocks->offset);
+  const Eigen::MatrixXd selector = offset_selector(*blocks);
+  return selector * offsets_covariance_ * selector.transpose();
 }
 
 }  // namespace stgf

@@ -16,18 +16,36 @@
 // which together are the exact multi-view update of the joint model: their differences teach the
 // offsets exactly as in view_registration.hpp. Between times, an object's position moves by its
 // motion forecast, p_i += d, Σ_ii += Q (the offsets are constant, so nothing else changes).
-// An object starts diffuse (P⁻¹ = 0 on p_i): from its first measurement, p_i = z − H_u β_u − e, i.e.
-//     p̂_i = z − H_u β̂_u,   Σ_ii = R + H_u Σ_uu H_uᵀ,   Σ_{i,·} = −H_u Σ_{u,·},
-// the exact limit of the update. The offset common to all views, which nothing reveals, stays at its
-// prior and in every position's covariance. With a zero prior no offsets are kept, and this is the
-// plain filter (information-form multi-view update, multi_view_update.hpp).
+// An object starts diffuse (P⁻¹ = 0 on p_i): from its first measurement, p_i = z − H_u β_u − e.
+// The offset common to all views, which nothing reveals, stays at its prior and in every position's
+// covariance. With a zero prior no offsets are kept, and this is the plain filter (information-form
+// multi-view update, multi_view_update.hpp).
 //
-// Cost: the state has 3m + 6n entries; an update costs O((3m + 6n)²) — scenes of tens of objects and
-// views. The positions' cross-covariances are what make it exact.
+// Representation. Objects are correlated with each other only through the offsets: the Gaussian is
+// kept, exactly, as
+//     β ~ N(β̂, Σ_β),     p_i = a_i + B_i β,     a_i ~ N(â_i, P_i) independent of β and of each other,
+// with B_i (3 × 6n) how object i's position depends on the offsets. (Cov(p_i, p_j) = B_i Σ_β B_jᵀ and
+// Cov(p_i, β) = B_i Σ_β are what the dense (3m + 6n)² covariance held.) Each operation keeps this form:
+//   start       a_i = z − e:  â_i = z, P_i = R, B_i = −H_u E_u     (E_u picks β_u out of β)
+//   predict     â_i += d, P_i += Q
+//   update      z = a_i + C β + e,  C = B_i + H_u E_u,  T = P_i + R:
+//                 β:    S = C Σ_β Cᵀ + T,  β̂ += Σ_β Cᵀ S⁻¹ ν,  Σ_β −= Σ_β Cᵀ S⁻¹ C Σ_β,  ν = z − â_i − C β̂
+//                 a_i given β (the measurement z − C β of a_i, noise R):
+//                       â_i += P_i T⁻¹ (z − â_i),  B_i −= P_i T⁻¹ C,  P_i −= P_i T⁻¹ P_i
+//               (every other a_j is independent of z and keeps its own; their positions move with β̂)
+//   remove      drop a_i and B_i: the exact marginal of the rest
+//   release     view u's translation jumps by w ~ N(0, W) from now on: w joins β as a block of its own
+//               (zero mean, covariance W, independent of everything), view u's measurements depend on
+//               t_u + w, and no position depends on it — the dense filter's Σ_tt += W, exactly.
+//
+// Cost, with n the scene's views and m its objects: an update costs O(n²) (the offsets' covariance),
+// independent of m and of the other objects; a position O(n²); predict O(1); memory O(n² + m n).
+// (The dense joint covariance cost O((3m + 6n)²) per update and memory.)
 
 #include <map>
 #include <string>
 #include <string_view>
+#include <vector>
 
 #include <Eigen/Dense>
 
@@ -74,16 +92,33 @@ class JointRegistration {
   bool active() const { return !prior_.is_zero(); }
 
  private:
-  Eigen::Index add_view(std::string_view view);  // index of its block (none for a zero prior: −1)
-  Eigen::Index view_index(std::string_view view) const;
-  Eigen::Index grow(Eigen::Index size);           // appends a zero block; returns its start
+  // Object i: p_i = a_i + B_i β with a_i ~ N(mean, covariance) independent of β.
+  struct ObjectState {
+    Vector3d mean;
+    Matrix3d covariance;
+    Eigen::Matrix<double, 3, Eigen::Dynamic> offsets;  // B_i (3 × 6n)
+  };
+  // A view's blocks of β: its offset (t_u, δ_u) and the translation jumps released since.
+  struct ViewBlocks {
+    Eigen::Index offset;
+    std::vector<Eigen::Index> jumps;
+  };
+  const ViewBlocks* add_view(std::string_view view);  // none for a zero prior
+  const ViewBlocks* view_blocks(std::string_view view) const;  // none when unknown
+  Eigen::Index grow_offsets(const Eigen::MatrixXd& covariance);  // appends an independent block; its start
+  const ObjectState& object_state(std::string_view object) const;
+  // C = B_i + H_u E_u: how a measurement of object i by view u (none: a view not in β) depends on β.
+  Eigen::Matrix<double, 3, Eigen::Dynamic> measurement_offsets(const ObjectState& object, const ViewBlocks* view,
+                                                               const Eigen::Matrix<double, 3, 6>& h) const;
+  // E_u with view u's offset t_u + Σ jumps, δ_u = E_u β (6 × size of β).
+  Eigen::MatrixXd offset_selector(const ViewBlocks& view) const;
 
   RegistrationPrior prior_;
   Eigen::Matrix<double, 6, 6> prior_covariance_;
-  std::map<std::string, Eigen::Index, std::less<>> objects_;  // start of p_i
-  std::map<std::string, Eigen::Index, std::less<>> views_;    // start of β_u
-  Eigen::VectorXd mean_;
-  Eigen::MatrixXd covariance_;
+  std::map<std::string, ObjectState, std::less<>> objects_;
+  std::map<std::string, ViewBlocks, std::less<>> views_;
+  Eigen::VectorXd offsets_mean_;        // β̂
+  Eigen::MatrixXd offsets_covariance_;  // Σ_β
 };
 
 }  // namespace stgf

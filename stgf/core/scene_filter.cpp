@@ -288,13 +288,18 @@ void SceneFilter::process_joint(Event& event) {
     std::vector<double> distances;
     if (!track.empty()) {
       motion = track.motion_to(time, predictor_, scale);
-      const Matrix3d state_covariance = state_.joint.position(object).covariance();
+      const Gaussian3 state = state_.joint.position(object);
       state_.joint.predict(object, motion->displacement, motion->covariance);
-      prediction = TrackPrediction{state_.joint.position(object), state_covariance, motion->process_noise,
-                                   motion->interval, track.history().size()};
-      if (track.history().size() >= 2 && (gate_.enabled() || (!track.has_frame() && options_.adapt_process_noise))) {
+      // The predicted position: p_i + d, Σ_ii + Q (what position() now gives, without recomputing it).
+      prediction = TrackPrediction{
+          Gaussian3::from_covariance(state.mean() + motion->displacement, state.covariance() + motion->covariance),
+          state.covariance(), motion->process_noise, motion->interval, track.history().size()};
+      // Innovations against the prediction: every row's for the gate, else the first row's to teach Q.
+      const bool teaches_process_noise = !track.has_frame() && options_.adapt_process_noise;
+      if (track.history().size() >= 2 && (gate_.enabled() || teaches_process_noise)) {
         for (const Row& row : rows) {
           innovations.push_back(state_.joint.innovation(row.measurement, noise_scale(row.measurement.view)));
+          if (!gate_.enabled()) break;
         }
       }
       if (gate_.enabled() && track.history().size() >= 2) {

@@ -1,0 +1,220 @@
+// SPDX-License-Identifier: Apache-2.0
+// JointRegistration keeps the joint Gaussian over positions and offsets in factored form
+// (p_i = a_i + B_i β, joint_registration.hpp). It must be exactly the dense joint Kalman filter over
+// s = (p_1 … p_m, β_1 … β_n) written out below: the same positions, offsets, covariances and
+// innovations after any sequence of starts, predictions, updates (noise scaled or not), views
+// appearing late, offsets released and objects removed — including a prior that is singular on z.
+
+#include "stgf/core/joint_registration.hpp"
+
+#include <random>
+
+#include <gtest/gtest.h>
+
+namespace stgf {
+namespace {
+
+using Matrix36 = Eigen::Matrix<double, 3, 6>;
+
+// The reference: one dense Gaussian over every position and offset, every operation exact.
+class DenseJointRegistration {
+ public:
+  explicit DenseJointRegistration(const RegistrationPrior& prior) : prior_covariance_(prior.covariance()) {}
+
+  void add_object(const Measurement& first, double noise_scale) {
+    const Eigen::Index u = add_view(first.view);
+    const Matrix36 h = offset_jacobian(first.position.covariance());
+    const Eigen::Index i = grow(3);
+    // p = z − H_u β_u − e, e independent of everything.
+    mean_.segment<3>(i) = first.position.mean() - h * mean_.segment<6>(u);
+    const Eigen::MatrixXd cross = -h * covariance_.middleRows<6>(u);
+    covariance_.middleRows<3>(i) = cross;
+    covariance_.middleCols<3>(i) = cross.transpose();
+    covariance_.block<3, 3>(i, i) =
+        noise_scale * first.position.covariance() + h * covariance_.block<6, 6>(u, u) * h.transpose();
+    objects_[first.object] = i;
+  }
+  void remove_object(const std::string& object) {
+    const Eigen::Index i = objects_.at(object);
+    std::vector<Eigen::Index> keep;
+    for (Eigen::Index k = 0; k < mean_.size(); ++k) {
+      if (k < i || k >= i + 3) keep.push_back(k);
+    }
+    mean_ = mean_(keep).eval();
+    covariance_ = covariance_(keep, keep).eval();
+    objects_.erase(object);
+    for (auto* blocks : {&objects_, &views_}) {
+      for (auto& [name, start] : *blocks) {
+        if (start > i) start -= 3;
+      }
+    }
+  }
+  void predict(const std::string& object, const Vector3d& d, const Matrix3d& q) {
+    const Eigen::Index i = objects_.at(object);
+    mean_.segment<3>(i) += d;
+    covariance_.block<3, 3>(i, i) += q;
+  }
+  void release_offset(const std::string& view, const Matrix3d& w) { covariance_.block<3, 3>(views_.at(view), views_.at(view)) += w; }
+  Eigen::MatrixXd observation(const Measurement& m, Eigen::Index u) const {
+    Eigen::MatrixXd h = Eigen::MatrixXd::Zero(3, mean_.size());
+    h.middleCols<3>(objects_.at(m.object)).setIdentity();
+    h.middleCols<6>(u) = offset_jacobian(m.position.covariance());
+    return h;
+  }
+  JointRegistration::Innovation innovation(const Measurement& m, double noise_scale) {
+    const Eigen::Index u = add_view(m.view);
+    const Eigen::MatrixXd h = observation(m, u);
+    return {m.position.mean() - h * mean_, h * covariance_ * h.transpose() + noise_scale * m.position.covariance()};
+  }
+  void update(const Measurement& m, double noise_scale) {
+    const Eigen::Index u = add_view(m.view);
+    const Eigen::MatrixXd h = observation(m, u);
+    const Matrix3d s = h * covariance_ * h.transpose() + noise_scale * m.position.covariance();
+    const Eigen::MatrixXd gain = covariance_ * h.transpose() * s.inverse();
+    mean_ += gain * (m.position.mean() - h * mean_);
+    covariance_ -= gain * h * covariance_;
+    covariance_ = 0.5 * (covariance_ + covariance_.transpose()).eval();
+  }
+  Vector3d position_mean(const std::string& object) const { return mean_.segment<3>(objects_.at(object)); }
+  Matrix3d position_covariance(const std::string& object) const {
+    const Eigen::Index i = objects_.at(object);
+    return covariance_.block<3, 3>(i, i);
+  }
+  Eigen::Matrix<double, 6, 1> offset(const std::string& view) const { return mean_.segment<6>(views_.at(view)); }
+  Eigen::Matrix<double, 6, 6> offset_covariance(const std::string& view) const {
+    return covariance_.block<6, 6>(views_.at(view), views_.at(view));
+  }
+  const std::map<std::string, Eigen::Index>& objects() const { return objects_; }
+  const std::map<std::string, Eigen::Index>& views() const { return views_; }
+
+ private:
+  Eigen::Index grow(Eigen::Index size) {
+    const Eigen::Index start = mean_.size();
+    mean_.conservativeResize(start + size);
+    mean_.tail(size).setZero();
+    covariance_.conservativeResize(start + size, start + size);
+    covariance_.rightCols(size).setZero();
+    covariance_.bottomRows(size).setZero();
+    return start;
+  }
+  Eigen::Index add_view(const std::string& view) {
+    if (const auto found = views_.find(view); found != views_.end()) return found->second;
+    const Eigen::Index u = grow(6);
+    covariance_.block<6, 6>(u, u) = prior_covariance_;
+    views_[view] = u;
+    return u;
+  }
+
+  Eigen::Matrix<double, 6, 6> prior_covariance_;
+  std::map<std::string, Eigen::Index> objects_, views_;
+  Eigen::VectorXd mean_;
+  Eigen::MatrixXd covariance_;
+};
+
+Matrix3d random_covariance(std::mt19937_64& random, double scale) {
+  std::normal_distribution<double> normal(0.0, 1.0);
+  Matrix3d a;
+  for (int k = 0; k < 9; ++k) a(k / 3, k % 3) = normal(random);
+  return scale * (a * a.transpose() + 0.5 * Matrix3d::Identity());
+}
+
+void expect_same_state(const JointRegistration& factored, const DenseJointRegistration& dense, const std::string& when) {
+  SCOPED_TRACE(when);
+  for (const auto& [object, index] : dense.objects()) {
+    const Gaussian3 p = factored.position(object);
+    EXPECT_LE((p.mean() - dense.position_mean(object)).norm(), 1e-9) << object;
+    EXPECT_LE((p.covariance() - dense.position_covariance(object)).norm(), 1e-9) << object;
+  }
+  for (const auto& [view, index] : dense.views()) {
+    EXPECT_LE((factored.offset(view) - dense.offset(view)).norm(), 1e-9) << view;
+    EXPECT_LE((factored.offset_covariance(view) - dense.offset_covariance(view)).norm(), 1e-9) << view;
+  }
+}
+
+void run_scenario(const RegistrationPrior& prior, std::uint64_t seed) {
+  std::mt19937_64 random(seed);
+  std::uniform_real_distribution<double> uniform(0.0, 1.0);
+  std::normal_distribution<double> normal(0.0, 1.0);
+  JointRegistration factored(prior);
+  DenseJointRegistration dense(prior);
+  const auto measurement = [&](const std::string& object, const std::string& view) {
+    const Vector3d z(3.0 * normal(random), 3.0 * normal(random), normal(random));
+    return Measurement{"s", 0.0, view, object, Gaussian3::from_covariance(z, random_covariance(random, 0.01)),
+                       std::nullopt};
+  };
+  const std::vector<std::string> objects = {"a", "b", "c", "d"};
+  std::vector<std::string> views = {"v0", "v1"};
+  for (int step = 0; step < 30; ++step) {
+    if (step == 8) views.push_back("v2");   // a view that appears late
+    if (step == 15) views.push_back("v3");
+    for (const std::string& object : objects) {
+      if (uniform(random) < 0.2) continue;  // not seen this step
+      std::vector<std::string> seen;
+      for (const std::string& view : views) {
+        if (uniform(random) < 0.7) seen.push_back(view);
+      }
+      if (seen.empty()) continue;
+      if (!factored.has_object(object)) {
+        const Measurement first = measurement(object, seen.front());
+        factored.add_object(first, 1.0);
+        dense.add_object(first, 1.0);
+        seen.erase(seen.begin());
+      } else {
+        const Vector3d d(0.1 * normal(random), 0.1 * normal(random), 0.0);
+        const Matrix3d q = random_covariance(random, 0.001);
+        factored.predict(object, d, q);
+        dense.predict(object, d, q);
+      }
+      for (const std::string& view : seen) {
+        const Measurement m = measurement(object, view);
+        const double scale = uniform(random) < 0.3 ? 4.0 : 1.0;
+        const JointRegistration::Innovation expected = dense.innovation(m, scale);
+        const JointRegistration::Innovation actual = factored.innovation(m, scale);
+        EXPECT_LE((actual.value - expected.value).norm(), 1e-9);
+        EXPECT_LE((actual.covariance - expected.covariance).norm(), 1e-9);
+        factored.update(m, scale);
+        dense.update(m, scale);
+      }
+    }
+    expect_same_state(factored, dense, "after step " + std::to_string(step));
+    if (step == 12 || step == 22) {
+      const Matrix3d w = random_covariance(random, 0.05);
+      factored.release_offset("v1", w);
+      dense.release_offset("v1", w);
+      expect_same_state(factored, dense, "after releasing v1's offset at step " + std::to_string(step));
+    }
+    if (step == 18 && factored.has_object("b")) {
+      factored.remove_object("b");
+      dense.remove_object("b");
+      expect_same_state(factored, dense, "after removing b");
+    }
+  }
+}
+
+TEST(JointRegistration, EqualsTheDenseJointKalmanFilter) {
+  RegistrationPrior prior;
+  prior.translation_sigma = Vector3d(0.2, 0.3, 0.1);
+  prior.noise_ratio = 0.5;
+  for (std::uint64_t seed : {1u, 2u, 3u}) run_scenario(prior, seed);
+}
+
+TEST(JointRegistration, EqualsTheDenseJointKalmanFilterWithAPriorSingularOnZ) {
+  RegistrationPrior prior;
+  prior.translation_sigma = Vector3d(0.1, 0.1, 0.0);  // as the benchmarks' ground-plane views
+  prior.noise_ratio = 0.3;
+  for (std::uint64_t seed : {4u, 5u}) run_scenario(prior, seed);
+}
+
+TEST(JointRegistration, UnknownObjectsAreLogicErrors) {
+  RegistrationPrior prior;
+  prior.translation_sigma = Vector3d(0.1, 0.1, 0.1);
+  JointRegistration registration(prior);
+  const Measurement m{"s", 0.0, "v", "o", Gaussian3::from_covariance(Vector3d::Zero(), Matrix3d::Identity()), std::nullopt};
+  EXPECT_THROW(registration.update(m), std::logic_error);
+  EXPECT_THROW(registration.position("o"), std::logic_error);
+  registration.add_object(m);
+  EXPECT_THROW(registration.add_object(m), std::logic_error);
+}
+
+}  // namespace
+}  // namespace stgf
