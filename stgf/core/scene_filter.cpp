@@ -519,10 +519,9 @@ void SceneFilter::prune() {
   while (!log_.empty() && log_.front().time < checkpoints_.front().time) log_.pop_front();
 }
 
-std::vector<SceneFilter::Result> SceneFilter::take_results() {
-  std::vector<Result> results = std::move(results_);
-  results_.clear();
-  return results;
+void SceneFilter::take_results(std::vector<Result>& results) {
+  results.clear();
+  results.swap(results_);
 }
 
 }  // namespace stgf

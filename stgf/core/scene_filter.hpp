@@ -134,8 +134,10 @@ class SceneFilter {
     std::optional<TrackPrediction> prediction;
     bool gated = false;  // it failed the gate and was not fused (`estimate` is from the rest)
   };
-  // The results of measurements processed since the last call, in processing order.
-  std::vector<Result> take_results();
+  // The results of measurements processed since the last call, in processing order, into `results`
+  // (its contents replaced). The two vectors swap storage, so a caller that passes the same vector
+  // every time allocates nothing in the steady state.
+  void take_results(std::vector<Result>& results);
 
   std::size_t restarted_tracks() const { return state_.restarted_tracks; }
   std::size_t late_measurements() const { return late_measurements_; }  // too late for the window

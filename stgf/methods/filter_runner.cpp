@@ -48,9 +48,11 @@ struct SceneRun {
   std::size_t next = 0;
 };
 
-void collect(SceneFilter& filter, std::vector<std::optional<Gaussian3>>& estimates, FilterRun& run,
-             bool keep_predictions) {
-  for (SceneFilter::Result& result : filter.take_results()) {
+// `results`: scratch, reused from call to call.
+void collect(SceneFilter& filter, std::vector<SceneFilter::Result>& results,
+             std::vector<std::optional<Gaussian3>>& estimates, FilterRun& run, bool keep_predictions) {
+  filter.take_results(results);
+  for (SceneFilter::Result& result : results) {
     estimates[result.id] = result.estimate;
     if (keep_predictions) run.predictions[result.id] = result.prediction;
   }
@@ -66,6 +68,7 @@ void run_block(const MotionPredictor& predictor, const FilterOptions& options, s
         {scene.name, std::make_unique<SceneFilter>(predictor, options), deliveries_of(scene, measurements, by_arrival), 0});
   }
   std::vector<const Measurement*> delivered;
+  std::vector<SceneFilter::Result> results;
   for (;;) {
     // Every scene runs until it waits for forecasts or has nothing left.
     std::vector<SceneRun*> waiting;
@@ -73,7 +76,7 @@ void run_block(const MotionPredictor& predictor, const FilterOptions& options, s
     for (SceneRun& scene : block) {
       for (;;) {
         const bool done = scene.filter->advance();
-        collect(*scene.filter, estimates, run, keep_predictions);
+        collect(*scene.filter, results, estimates, run, keep_predictions);
         if (!done) {
           waiting.push_back(&scene);
           const auto& request = scene.filter->forecast_request();

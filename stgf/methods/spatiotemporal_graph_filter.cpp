@@ -16,7 +16,8 @@ std::vector<Gaussian3> SpatiotemporalGraphFilter::fuse(std::span<const Measureme
   while (!filter_.advance()) filter_.provide_forecasts(predictor_.forecast(filter_.forecast_request()));
   std::vector<std::optional<Gaussian3>> estimates(measurements.size());
   last_predictions_.assign(measurements.size(), std::nullopt);
-  for (SceneFilter::Result& result : filter_.take_results()) {
+  filter_.take_results(results_);
+  for (SceneFilter::Result& result : results_) {
     estimates[result.id] = result.estimate;
     last_predictions_[result.id] = result.prediction;
   }

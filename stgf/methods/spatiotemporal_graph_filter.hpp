@@ -62,6 +62,7 @@ class SpatiotemporalGraphFilter final : public Localizer {
   const MotionPredictor& predictor_;
   SceneFilter filter_;
   std::vector<std::optional<TrackPrediction>> last_predictions_;
+  std::vector<SceneFilter::Result> results_;  // scratch for SceneFilter::take_results
 };
 
 }  // namespace stgf
