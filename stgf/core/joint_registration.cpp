@@ -10,13 +10,18 @@ using Matrix3X = Eigen::Matrix<double, 3, Eigen::Dynamic>;
 
 namespace {
 
-// M Σ for a 3-row M: coefficient by coefficient (Eigen's blocked product would repack Σ every call,
-// which at these shapes costs more than the arithmetic).
-Matrix3X times(const Matrix3X& m, const Eigen::MatrixXd& sigma) { return m.lazyProduct(sigma); }
+using MatrixX3 = Eigen::Matrix<double, Eigen::Dynamic, 3>;
+
+// Σ Mᵀ for a 3-row M (= (M Σ)ᵀ, Σ symmetric): three matrix-vector products down Σ's columns.
+MatrixX3 sigma_times_transposed(const Eigen::MatrixXd& sigma, const Matrix3X& m) {
+  MatrixX3 result(sigma.rows(), 3);
+  for (int k = 0; k < 3; ++k) result.col(k).noalias() = sigma * m.row(k).transpose();
+  return result;
+}
 
 // M Σ Mᵀ for a 3-row M.
 Matrix3d quadratic_form(const Matrix3X& m, const Eigen::MatrixXd& sigma) {
-  return times(m, sigma).lazyProduct(m.transpose());
+  return m.lazyProduct(sigma_times_transposed(sigma, m));
 }
 
 }  // namespace
@@ -126,24 +131,26 @@ void JointRegistration::update(const Measurement& measurement, double noise_scal
   const Vector3d& z = measurement.position.mean();
   const Matrix3X c = measurement_offsets(object, view, offset_jacobian(r));
   const Matrix3d t = symmetrised(object.covariance + noise_scale * r);  // T = P_i + μR
-  // The offsets: z − â_i = C β + (a_i − â_i + e), noise T.
-  const Matrix3X c_sigma = times(c, offsets_covariance_);  // C Σ_β
-  const Eigen::LLT<Matrix3d> s_factor(symmetrised(c_sigma.lazyProduct(c.transpose()) + t));
+  // The offsets: z − â_i = C β + (a_i − â_i + e), noise T. With S = C Σ_β Cᵀ + T = L Lᵀ and
+  // V = L⁻¹ C Σ_β: β̂ += Vᵀ L⁻¹ ν and Σ_β −= Vᵀ V (its lower triangle, mirrored: symmetric exactly).
+  const MatrixX3 sigma_c = sigma_times_transposed(offsets_covariance_, c);  // Σ_β Cᵀ
+  const Eigen::LLT<Matrix3d> s_factor(symmetrised(c.lazyProduct(sigma_c) + t));
   if (s_factor.info() != Eigen::Success) {
     throw std::runtime_error("registration: innovation covariance not positive definite");
   }
-  const Vector3d innovation = z - object.mean - c * offsets_mean_;
-  const Matrix3X gain_transposed = s_factor.solve(c_sigma);  // Kᵀ = S⁻¹ C Σ_β
-  offsets_mean_.noalias() += gain_transposed.transpose() * innovation;
-  // Σ_β − Σ_β Cᵀ S⁻¹ C Σ_β, its lower triangle mirrored: symmetric exactly.
-  offsets_covariance_.noalias() -= c_sigma.transpose() * gain_transposed;
+  Vector3d whitened = z - object.mean - c * offsets_mean_;  // ν, then L⁻¹ ν
+  s_factor.matrixL().solveInPlace(whitened);
+  Matrix3X v = sigma_c.transpose();
+  s_factor.matrixL().solveInPlace(v);
+  offsets_mean_.noalias() += v.transpose() * whitened;
+  offsets_covariance_.selfadjointView<Eigen::Lower>().rankUpdate(v.transpose(), -1.0);
   offsets_covariance_.triangularView<Eigen::StrictlyUpper>() = offsets_covariance_.transpose();
   // The object's own part, given β: z − C β = a_i + e.
   const Eigen::LLT<Matrix3d> t_factor(t);
   if (t_factor.info() != Eigen::Success) throw std::runtime_error("registration: P + R not positive definite");
   const Matrix3d gain = t_factor.solve(object.covariance).transpose();  // P_i T⁻¹ (P_i, T symmetric)
   object.mean += gain * (z - object.mean);
-  object.offsets -= gain * c;
+  object.offsets -= gain.lazyProduct(c);
   object.covariance = symmetrised(object.covariance - gain * object.covariance);
 }
 
