@@ -1,8 +1,11 @@
 // SPDX-License-Identifier: Apache-2.0
 #include "stgf/core/joint_registration.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
+
+#include <Eigen/Eigenvalues>
 
 namespace stgf {
 using Matrix36 = Eigen::Matrix<double, 3, 6>;
@@ -34,33 +37,47 @@ const JointRegistration::ViewBlocks* JointRegistration::view_blocks(std::string_
   return found == views_.end() ? nullptr : &found->second;
 }
 
-Eigen::Index JointRegistration::grow_offsets(const Eigen::MatrixXd& covariance) {
+void JointRegistration::add_block(ViewBlocks& view, const Eigen::Matrix<double, 6, Eigen::Dynamic>& directions,
+                                  const Eigen::MatrixXd& covariance) {
+  // covariance = U diag(λ) Uᵀ; the block holds the coordinates along the eigenvectors with λ > 0.
+  const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eigen(covariance);
+  const Eigen::VectorXd& values = eigen.eigenvalues();
+  const double floor = 1e-12 * std::max(values.cwiseAbs().maxCoeff(), 0.0);
+  std::vector<Eigen::Index> kept;
+  for (Eigen::Index k = 0; k < values.size(); ++k) {
+    if (values(k) > floor && values(k) > 0.0) kept.push_back(k);
+  }
+  const auto size = static_cast<Eigen::Index>(kept.size());
+  if (size == 0) return;
+  Eigen::Matrix<double, 6, Eigen::Dynamic> basis(6, size);
   const Eigen::Index start = offsets_mean_.size();
-  const Eigen::Index size = covariance.rows();
   offsets_mean_.conservativeResize(start + size);
   offsets_mean_.tail(size).setZero();
   offsets_covariance_.conservativeResize(start + size, start + size);
   offsets_covariance_.rightCols(size).setZero();
   offsets_covariance_.bottomRows(size).setZero();
-  offsets_covariance_.bottomRightCorner(size, size) = covariance;
+  for (Eigen::Index k = 0; k < size; ++k) {
+    basis.col(k) = directions * eigen.eigenvectors().col(kept[k]);
+    offsets_covariance_(start + k, start + k) = values(kept[k]);
+  }
   for (auto& [name, object] : objects_) {
     object.offsets.conservativeResize(Eigen::NoChange, start + size);
     object.offsets.rightCols(size).setZero();  // no position depends on the new block
   }
-  return start;
+  view.blocks.push_back({start, std::move(basis)});
 }
 
 const JointRegistration::ViewBlocks* JointRegistration::add_view(std::string_view view) {
   if (prior_.is_zero()) return nullptr;
   if (const ViewBlocks* known = view_blocks(view)) return known;
-  const Eigen::Index start = grow_offsets(prior_covariance_);
-  return &views_.emplace(std::string(view), ViewBlocks{start, {}}).first->second;
+  ViewBlocks& blocks = views_.emplace(std::string(view), ViewBlocks{}).first->second;
+  add_block(blocks, Eigen::Matrix<double, 6, 6>::Identity(), prior_covariance_);
+  return &blocks;
 }
 
 Eigen::MatrixXd JointRegistration::offset_selector(const ViewBlocks& view) const {
   Eigen::MatrixXd selector = Eigen::MatrixXd::Zero(6, offsets_mean_.size());
-  selector.middleCols<6>(view.offset).setIdentity();
-  for (const Eigen::Index jump : view.jumps) selector.block<3, 3>(0, jump).setIdentity();
+  for (const OffsetBlock& block : view.blocks) selector.middleCols(block.start, block.basis.cols()) = block.basis;
   return selector;
 }
 
@@ -70,13 +87,11 @@ const JointRegistration::ObjectState& JointRegistration::object_state(std::strin
   return found->second;
 }
 
-Matrix3X JointRegistration::measurement_offsets(const ObjectState& object,
-                                                                              const ViewBlocks* view,
-                                                                              const Matrix36& h) const {
+Matrix3X JointRegistration::measurement_offsets(const ObjectState& object, const ViewBlocks* view,
+                                                const Matrix36& h) const {
   Matrix3X c = object.offsets;
   if (view == nullptr) return c;
-  c.middleCols<6>(view->offset) += h;
-  for (const Eigen::Index jump : view->jumps) c.middleCols<3>(jump) += h.leftCols<3>();  // H_u's t part: I₃
+  for (const OffsetBlock& block : view->blocks) c.middleCols(block.start, block.basis.cols()) += h * block.basis;
   return c;
 }
 
@@ -104,9 +119,11 @@ void JointRegistration::predict(std::string_view object, const Vector3d& displac
 }
 
 void JointRegistration::release_offset(std::string_view view, const Matrix3d& covariance) {
-  if (view_blocks(view) == nullptr) return;
-  const Eigen::Index jump = grow_offsets(symmetrised(covariance));
-  views_.find(view)->second.jumps.push_back(jump);
+  const auto found = views_.find(view);
+  if (found == views_.end()) return;
+  Eigen::Matrix<double, 6, 3> translation = Eigen::Matrix<double, 6, 3>::Zero();
+  translation.topRows<3>().setIdentity();
+  add_block(found->second, translation, symmetrised(covariance));
 }
 
 JointRegistration::Innovation JointRegistration::innovation(const Measurement& measurement, double noise_scale) const {
@@ -172,15 +189,22 @@ Gaussian3 JointRegistration::position(std::string_view object) const {
 
 Eigen::Matrix<double, 6, 1> JointRegistration::offset(std::string_view view) const {
   const ViewBlocks* blocks = view_blocks(view);
-  if (blocks == nullptr) return Eigen::Matrix<double, 6, 1>::Zero();
-  if (blocks->jumps.empty()) return offsets_mean_.segment<6>(blocks->offset);
-  return offset_selector(*blocks) * offsets_mean_;
+  Eigen::Matrix<double, 6, 1> result = Eigen::Matrix<double, 6, 1>::Zero();
+  if (blocks == nullptr) return result;
+  for (const OffsetBlock& block : blocks->blocks) {
+    result.noalias() += block.basis * offsets_mean_.segment(block.start, block.basis.cols());
+  }
+  return result;
 }
 
 Eigen::Matrix<double, 6, 6> JointRegistration::offset_covariance(std::string_view view) const {
   const ViewBlocks* blocks = view_blocks(view);
   if (blocks == nullptr) return prior_covariance_;
-  if (blocks->jumps.empty()) return offsets_covariance_.block<6, 6>(blocks->offset, blocks->offset);
+  if (blocks->blocks.size() == 1) {
+    const OffsetBlock& block = blocks->blocks.front();
+    const Eigen::Index size = block.basis.cols();
+    return block.basis * offsets_covariance_.block(block.start, block.start, size, size) * block.basis.transpose();
+  }
   const Eigen::MatrixXd selector = offset_selector(*blocks);
   return selector * offsets_covariance_ * selector.transpose();
 }

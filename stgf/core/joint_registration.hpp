@@ -98,14 +98,23 @@ class JointRegistration {
     Matrix3d covariance;
     Eigen::Matrix<double, 3, Eigen::Dynamic> offsets;  // B_i (3 × 6n)
   };
-  // A view's blocks of β: its offset (t_u, δ_u) and the translation jumps released since.
+  // A block of β and how its coordinates move a view's offset (t, δ): by `basis` (6 × its size).
+  struct OffsetBlock {
+    Eigen::Index start;
+    Eigen::Matrix<double, 6, Eigen::Dynamic> basis;
+  };
+  // A view's offset is Σ basis β_block over its blocks: its own — only the directions in which the
+  // prior has variance (a zero σ_z keeps t_z at exactly zero, so it costs nothing) — and the
+  // translation jumps released since (only the directions of W's range).
   struct ViewBlocks {
-    Eigen::Index offset;
-    std::vector<Eigen::Index> jumps;
+    std::vector<OffsetBlock> blocks;
   };
   const ViewBlocks* add_view(std::string_view view);  // none for a zero prior
   const ViewBlocks* view_blocks(std::string_view view) const;  // none when unknown
-  Eigen::Index grow_offsets(const Eigen::MatrixXd& covariance);  // appends an independent block; its start
+  // Appends an independent block for `covariance`'s nonzero directions (eigenvectors, as columns of
+  // `directions` mapped by it), if any.
+  void add_block(ViewBlocks& view, const Eigen::Matrix<double, 6, Eigen::Dynamic>& directions,
+                 const Eigen::MatrixXd& covariance);
   const ObjectState& object_state(std::string_view object) const;
   // C = B_i + H_u E_u: how a measurement of object i by view u (none: a view not in β) depends on β.
   Eigen::Matrix<double, 3, Eigen::Dynamic> measurement_offsets(const ObjectState& object, const ViewBlocks* view,

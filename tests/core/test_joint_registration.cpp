@@ -3,7 +3,8 @@
 // (p_i = a_i + B_i β, joint_registration.hpp). It must be exactly the dense joint Kalman filter over
 // s = (p_1 … p_m, β_1 … β_n) written out below: the same positions, offsets, covariances and
 // innovations after any sequence of starts, predictions, updates (noise scaled or not), views
-// appearing late, offsets released and objects removed — including a prior that is singular on z.
+// appearing late, offsets released (full rank and rank one) and objects removed — including a prior
+// that is singular on z, whose zero direction the factored form leaves out.
 
 #include "stgf/core/joint_registration.hpp"
 
@@ -178,7 +179,9 @@ void run_scenario(const RegistrationPrior& prior, std::uint64_t seed) {
     }
     expect_same_state(factored, dense, "after step " + std::to_string(step));
     if (step == 12 || step == 22) {
-      const Matrix3d w = random_covariance(random, 0.05);
+      // Full rank, then rank one (the gate releases ν̄ ν̄ᵀ: one direction only).
+      const Vector3d direction(normal(random), normal(random), normal(random));
+      const Matrix3d w = step == 12 ? random_covariance(random, 0.05) : Matrix3d(0.05 * direction * direction.transpose());
       factored.release_offset("v1", w);
       dense.release_offset("v1", w);
       expect_same_state(factored, dense, "after releasing v1's offset at step " + std::to_string(step));
