@@ -7,6 +7,7 @@
 #include <spdlog/spdlog.h>
 
 #include "commands.hpp"
+#include "input_guard.hpp"
 #include "install_layout.hpp"
 #include "stgf/datasets/benchmark_folder.hpp"
 #include "stgf/datasets/cad_benchmark.hpp"
@@ -113,6 +114,8 @@ void add_mpl(CLI::App& dataset) {
   add_clock_options(*command, m.clocks);
   command->callback([options] {
     if (options->mpl.source_directory.empty()) options->mpl.source_directory = shipped_data_directory() + "/pets2009_s2l1";
+    // The folder --out is replaced: the source data may not be in it.
+    refuse_outputs_over_inputs("--out", {options->out}, {options->mpl.source_directory});
     build_and_write(options->out, [&] { return make_mpl_benchmark(options->mpl); });
   });
 }
@@ -165,6 +168,8 @@ void add_cad(CLI::App& dataset) {
   add_clock_options(*command, c.clocks);
   command->callback([options] {
     if (options->cad.source_directory.empty()) options->cad.source_directory = default_kitti_directory();
+    // The folder --out is replaced: the source data may not be in it.
+    refuse_outputs_over_inputs("--out", {options->out}, {options->cad.source_directory});
     build_and_write(options->out, [&] { return make_cad_benchmark(options->cad); });
   });
 }
@@ -201,6 +206,8 @@ void add_ethucy(CLI::App& dataset) {
   add_clock_options(*command, e.clocks);
   command->callback([options] {
     if (options->ethucy.source_directory.empty()) options->ethucy.source_directory = shipped_data_directory() + "/eth_ucy";
+    // The folder --out is replaced: the source data may not be in it.
+    refuse_outputs_over_inputs("--out", {options->out}, {options->ethucy.source_directory});
     build_and_write(options->out, [&] { return make_ethucy_benchmark(options->ethucy); });
   });
 }

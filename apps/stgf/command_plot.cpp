@@ -16,6 +16,7 @@
 #include <spdlog/spdlog.h>
 
 #include "commands.hpp"
+#include "input_guard.hpp"
 #include "figures.hpp"
 #include "stgf/io/estimate_file.hpp"
 #include "stgf/io/evaluation.hpp"
@@ -78,6 +79,12 @@ void plot(const PlotOptions& options) {
   if (options.name.empty() || options.name.find('/') != std::string::npos || options.name.front() == '.') {
     throw std::invalid_argument("--name " + options.name + ": a file name prefix, without '/' and not starting with '.'");
   }
+  // Writes --out/NAME-* (through the staging folder --out/.stgf-plot-NAME): no input may be there.
+  std::vector<std::string> inputs = options.estimates;
+  inputs.push_back(options.truth);
+  inputs.push_back(options.measurements);
+  refuse_prefixed_outputs_over_inputs("--out", options.out, options.name + "-", inputs);
+  refuse_outputs_over_inputs("--out", {(fs::path(options.out) / (".stgf-plot-" + options.name)).string()}, inputs);
   if (!gnuplot_available()) {
     throw std::runtime_error("stgf plot draws with gnuplot, which is not installed (Debian: apt-get install gnuplot-nox)");
   }

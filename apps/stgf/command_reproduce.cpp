@@ -25,6 +25,7 @@
 #include <spdlog/spdlog.h>
 
 #include "commands.hpp"
+#include "input_guard.hpp"
 #include "figures.hpp"
 #include "install_layout.hpp"
 #include "method_runner.hpp"
@@ -419,6 +420,13 @@ void add_reproduce_command(CLI::App& app) {
     ReproduceOptions resolved = *options;
     if (resolved.mpl_source.empty()) resolved.mpl_source = shipped_data_directory() + "/pets2009_s2l1";
     if (resolved.kitti_source.empty()) resolved.kitti_source = default_kitti_directory();
+    // What reproduce writes under --out; the source data may not be there.
+    const fs::path out(resolved.out);
+    std::vector<std::string> written;
+    for (const char* part : {"benchmarks", "models", "estimates", "figures", "results.md", "results.json"}) {
+      written.push_back((out / part).string());
+    }
+    refuse_outputs_over_inputs("--out", written, {resolved.mpl_source, resolved.kitti_source});
     reproduce(resolved);
   });
 }

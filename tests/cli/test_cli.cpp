@@ -314,6 +314,38 @@ TEST_F(Cli, OutputOverAnInputIsRefused) {
   EXPECT_EQ(slurp(directory_ / "t.csv"), truth);
 }
 
+// Commands that write folders or several files refuse inputs where they write, before doing anything.
+TEST_F(Cli, OutputFoldersOverInputsAreRefused) {
+  fs::create_directories(directory_ / "bench" / "pets");
+  write("bench/pets/keep.txt", "source data\n");
+  Result result = stgf("dataset mpl --source bench/pets --out bench");
+  EXPECT_EQ(result.status, 2);
+  EXPECT_THAT(result.err, HasSubstr("would overwrite the input bench/pets"));
+  EXPECT_EQ(slurp(directory_ / "bench" / "pets" / "keep.txt"), "source data\n");
+
+  fs::create_directories(directory_ / "figures");
+  write("figures/stgf-trajectories.csv", "scene,t,view,object\n");
+  write("t.csv", "scene,t,object,x,y,z\ns,0,o1,0,0,0\n");
+  result = stgf("plot --truth t.csv --estimates figures/stgf-trajectories.csv --out figures");
+  EXPECT_EQ(result.status, 2);
+  EXPECT_THAT(result.err, HasSubstr("would overwrite the input figures/stgf-trajectories.csv"));
+  fs::create_symlink(directory_ / "t.csv", directory_ / "figures" / "mine-truth.csv");  // a link is the user's too
+  result = stgf("plot --truth figures/mine-truth.csv --estimates t.csv --out figures --name mine");
+  EXPECT_EQ(result.status, 2);
+  EXPECT_THAT(result.err, HasSubstr("would overwrite the input figures/mine-truth.csv"));
+  fs::create_symlink(directory_ / "figures", directory_ / "drawings");  // an output folder that links to one
+  result = stgf("plot --truth t.csv --estimates figures/stgf-trajectories.csv --out drawings");
+  EXPECT_EQ(result.status, 2);
+  EXPECT_THAT(result.err, HasSubstr("would overwrite the input"));
+
+  if (kWithLibTorch) {
+    fs::create_directories(directory_ / "r" / "benchmarks" / "pets");
+    result = stgf("reproduce --out r --mpl-source r/benchmarks/pets --quick");
+    EXPECT_EQ(result.status, 2);
+    EXPECT_THAT(result.err, HasSubstr("would overwrite the input r/benchmarks/pets"));
+  }
+}
+
 TEST_F(Cli, RunThenEval) {
   write("m.csv", "scene,t,view,object,x,y,z,cov_xx,cov_xy,cov_xz,cov_yy,cov_yz,cov_zz,sensor_x,sensor_y,sensor_z\n"
                  "s,0,v1,o1,0,0,0,1,0,0,1,0,1,10,0,0\n"
