@@ -2,7 +2,9 @@
 # SPDX-License-Identifier: Apache-2.0
 # Regenerates docs/results.md and docs/figures/: `stgf reproduce` on the real-data benchmarks at full
 # size (seed 1) — builds them, trains the models, runs all six methods on the test splits, scores
-# them and draws the figures — then adds the notes below. About 12 minutes on 2 cores.
+# them and draws the figures — then adds the notes below. About 12 minutes on 2 cores. The models
+# are trained with 2 LibTorch threads, as the published ones were (a model's bytes depend on the
+# thread count; `stgf train` defaults to 1).
 #   scripts/results.sh                      # mpl and cad (cad needs the KITTI copy, see data/README.md)
 #   BENCHMARKS=mpl scripts/results.sh
 set -euo pipefail
@@ -11,7 +13,7 @@ scripts/install-deps.sh
 scripts/build.sh >/dev/null
 
 out=build/reproduce
-build/stgf reproduce --benchmarks "${BENCHMARKS:-mpl,cad}" --out "$out" --seed 1 >/dev/null
+build/stgf reproduce --benchmarks "${BENCHMARKS:-mpl,cad}" --out "$out" --seed 1 --threads 2 >/dev/null
 mkdir -p docs/figures
 cp "$out"/figures/*.svg "$out"/figures/*.png docs/figures/
 {

@@ -60,7 +60,7 @@ struct ReproduceOptions {
   bool quick = false;
   std::uint64_t seed = 1;
   int epochs = 0;   // 0: 8, or 3 with --quick
-  int threads = 0;  // LibTorch threads for training (0: all cores)
+  int threads = 1;  // LibTorch threads for training (0: all cores)
   std::vector<int> instances;  // train, val, test instances; empty: the benchmark's defaults (or --quick's)
   std::string mpl_source;    // "": the shipped data (install_layout.hpp)
   std::string kitti_source;  // "": STGF_KITTI_DIR or share/stgf/kitti_tracking
@@ -412,7 +412,7 @@ void add_reproduce_command(CLI::App& app) {
       ->check(CLI::PositiveNumber);
   command->add_option("--epochs", options->epochs, "training epochs (default 8, or 3 with --quick)")
       ->check(CLI::PositiveNumber);
-  command->add_option("--threads", options->threads, "LibTorch threads for training (0: all cores)")->capture_default_str();
+  command->add_option("--threads", options->threads, "LibTorch threads for training (0: all cores; more are faster only on an idle machine)")->capture_default_str();
   command->add_option("--mpl-source", options->mpl_source, "PETS 2009 S2L1 folder (default: the shipped one)");
   command->add_option("--kitti-source", options->kitti_source,
                       "KITTI tracking training folder, for cad (default: $STGF_KITTI_DIR, else share/stgf/kitti_tracking)");

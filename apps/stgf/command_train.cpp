@@ -34,7 +34,7 @@ void add_train_command(CLI::App& app) {
       ->check(CLI::PositiveNumber);
   command->add_option("--seed", t.seed, "random seed; the same seed gives the same model")->capture_default_str()
       ->check(CLI::NonNegativeNumber);
-  command->add_option("--threads", t.threads, "LibTorch threads (0: all cores)")->capture_default_str();
+  command->add_option("--threads", t.threads, "LibTorch threads for training (0: all cores; more are faster only on an idle machine)")->capture_default_str();
   command->add_option("--resume", t.resume, "continue from this model file (weights and optimizer state)");
   command->add_option("--history", t.shape.history_length, "history intervals Φ sees")
       ->capture_default_str()

@@ -29,7 +29,10 @@ struct MotionTrainingOptions {
   double learning_rate = 1e-3;
   int batch_graphs = 64;       // graphs per optimisation step
   std::uint64_t seed = 1;
-  int threads = 0;             // LibTorch intra-op threads; 0 = all cores
+  // LibTorch intra-op threads; 0 = all cores. One by default: measured on a 2-core machine with
+  // another job running, 2 threads took 1.1× (OpenMP threads sleeping) to 2.5× (spinning) the time of
+  // one (bench/README.md). A model's bytes depend on the count (float sums in another order).
+  int threads = 1;
   std::string resume;          // model file to continue from (its optimizer state too), or empty
   HistoryNoise history = HistoryNoise::kObserved;
   MotionModelShape shape;
