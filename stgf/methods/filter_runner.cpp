@@ -12,8 +12,6 @@ namespace {
 
 // Graphs per predictor pass: large enough to amortise a pass, small enough to bound its memory.
 constexpr std::size_t kGraphsPerPass = 4096;
-// Scenes advanced together: enough to fill the passes, few enough that their filters' state stays small.
-constexpr std::size_t kScenesPerBlock = 256;
 
 // The deliveries of a scene: groups of row indices, in the order the filter receives them.
 std::vector<std::vector<std::size_t>> deliveries_of(const Scene& scene, std::span<const Measurement> measurements,
@@ -130,8 +128,8 @@ FilterRun run_spatiotemporal_graph_filter(const MotionPredictor& predictor, cons
   std::vector<std::optional<Gaussian3>> estimates(measurements.size());
   FilterRun run;
   if (keep_predictions) run.predictions.resize(measurements.size());
-  for (std::size_t first = 0; first < scenes.size(); first += kScenesPerBlock) {
-    const std::size_t count = std::min(kScenesPerBlock, scenes.size() - first);
+  for (std::size_t first = 0; first < scenes.size(); first += kScenesPerFilterBlock) {
+    const std::size_t count = std::min(kScenesPerFilterBlock, scenes.size() - first);
     run_block(predictor, scene_options, measurements, std::span(scenes).subspan(first, count), by_arrival, estimates,
               run, keep_predictions);
   }
