@@ -46,17 +46,20 @@ struct SceneRun {
   std::size_t next = 0;
 };
 
-void collect(SceneFilter& filter, std::vector<std::optional<Gaussian3>>& estimates, FilterRun& run,
-             bool keep_predictions) {
+// Rows whose estimate has come, so that a row left without one is caught.
+using Estimated = std::vector<bool>;
+
+void collect(SceneFilter& filter, Estimated& estimated, FilterRun& run, bool keep_predictions) {
   for (SceneFilter::Result& result : filter.take_results()) {
-    estimates[result.id] = result.estimate;
+    run.estimates[result.id] = result.estimate;
+    estimated[result.id] = true;
     if (keep_predictions) run.predictions[result.id] = result.prediction;
   }
 }
 
 void run_block(const MotionPredictor& predictor, const FilterOptions& options, std::span<const Measurement> measurements,
-               std::span<const Scene> scenes, bool by_arrival, std::vector<std::optional<Gaussian3>>& estimates,
-               FilterRun& run, bool keep_predictions) {
+               std::span<const Scene> scenes, bool by_arrival, Estimated& estimated, FilterRun& run,
+               bool keep_predictions) {
   std::vector<SceneRun> block;
   block.reserve(scenes.size());
   for (const Scene& scene : scenes) {
@@ -71,7 +74,7 @@ void run_block(const MotionPredictor& predictor, const FilterOptions& options, s
     for (SceneRun& scene : block) {
       for (;;) {
         const bool done = scene.filter->advance();
-        collect(*scene.filter, estimates, run, keep_predictions);
+        collect(*scene.filter, estimated, run, keep_predictions);
         if (!done) {
           waiting.push_back(&scene);
           const auto& request = scene.filter->forecast_request();
@@ -125,18 +128,20 @@ FilterRun run_spatiotemporal_graph_filter(const MotionPredictor& predictor, cons
   FilterOptions scene_options = options;
   if (!by_arrival) scene_options.lag_window = 0.0;  // steps come in time order: nothing to go back for
   const std::vector<Scene> scenes = group_into_scenes(measurements);
-  std::vector<std::optional<Gaussian3>> estimates(measurements.size());
   FilterRun run;
+  // One vector of estimates, each row's own measurement until its estimate comes (a Gaussian3 has no
+  // empty state; a vector of optionals beside it would hold every estimate twice).
+  run.estimates.reserve(measurements.size());
+  for (const Measurement& measurement : measurements) run.estimates.push_back(measurement.position);
+  Estimated estimated(measurements.size(), false);
   if (keep_predictions) run.predictions.resize(measurements.size());
   for (std::size_t first = 0; first < scenes.size(); first += kScenesPerFilterBlock) {
     const std::size_t count = std::min(kScenesPerFilterBlock, scenes.size() - first);
-    run_block(predictor, scene_options, measurements, std::span(scenes).subspan(first, count), by_arrival, estimates,
+    run_block(predictor, scene_options, measurements, std::span(scenes).subspan(first, count), by_arrival, estimated,
               run, keep_predictions);
   }
-  run.estimates.reserve(measurements.size());
-  for (const auto& estimate : estimates) {
-    if (!estimate) throw std::logic_error("run_spatiotemporal_graph_filter: a row got no estimate");
-    run.estimates.push_back(*estimate);
+  if (std::find(estimated.begin(), estimated.end(), false) != estimated.end()) {
+    throw std::logic_error("run_spatiotemporal_graph_filter: a row got no estimate");
   }
   return run;
 }
