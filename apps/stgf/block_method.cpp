@@ -13,6 +13,8 @@ class ModelFreeMethod final : public BlockMethod {
  public:
   ModelFreeMethod(std::string method, MethodConfig config) : method_(std::move(method)), config_(std::move(config)) {}
 
+  std::size_t scenes_per_block() const override { return 1; }
+
   std::vector<Gaussian3> add(std::span<const Measurement> rows) override {
     return run_method(method_, config_, rows, &gating_);
   }

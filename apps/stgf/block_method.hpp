@@ -2,8 +2,8 @@
 #pragma once
 // A method as `stgf run` drives it (DESIGN §3.8): it is given the measurements file a block of whole
 // scenes at a time, in file order, and gives back one estimate per row, in file order, so that memory
-// holds a block, not the file. The blocks hold kScenesPerFilterBlock scenes (filter_runner.hpp), which
-// gives every method the estimates of one run over the whole file, bit for bit.
+// holds a block, not the file. Each method takes the blocks that give it the estimates of one run over
+// the whole file, bit for bit (scenes_per_block()).
 
 #include <memory>
 #include <span>
@@ -19,6 +19,10 @@ namespace stgf::cli {
 class BlockMethod {
  public:
   virtual ~BlockMethod() = default;
+  // The scenes of a block: kScenesPerFilterBlock for ours and ours-l, whose batched passes of Φ span
+  // the scenes of such a block (filter_runner.hpp); one for the others, which give any block of whole
+  // scenes the same estimates (sttp continues its passes across blocks), so that memory holds a scene.
+  virtual std::size_t scenes_per_block() const = 0;
   // Takes the next block's rows; returns the estimates now complete, in file order, following those
   // returned before: all of the block's, but for sttp, whose last forward pass may wait for later
   // blocks. A late row under `late_measurements: stop` throws LateMeasurementError with the row's

@@ -4,6 +4,7 @@
 #include <spdlog/spdlog.h>
 
 #include "gating_log.hpp"
+#include "stgf/methods/filter_runner.hpp"
 
 namespace stgf::cli {
 
@@ -52,6 +53,7 @@ class LoadedMethod final : public BlockMethod {
         model_(load_model_for(method_, model_path_)),
         run_(method_, config_, &model_, model_path_) {}
 
+  std::size_t scenes_per_block() const override { return method_ == "sttp" ? 1 : kScenesPerFilterBlock; }
   std::vector<Gaussian3> add(std::span<const Measurement> rows) override { return run_.add(rows); }
   std::vector<Gaussian3> finish() override { return run_.finish(); }
   void log_report() const override { log_method_report(method_, config_, &model_, model_path_, run_.report()); }

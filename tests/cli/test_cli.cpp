@@ -307,14 +307,15 @@ TEST_F(Cli, RunRejectsASceneThatComesBackAtItsLine) {
   EXPECT_EQ(slurp(directory_ / "e.csv"), "previous\n");
 }
 
-// 300 scenes of one row each: more than one block of 256 scenes. Each row is (scene k, x = k).
+// Scenes of one row each, row k at x = k: with 300 and more, more than one block of scenes for every
+// method (wls takes one scene a block, ours 256).
 std::string many_scene_rows(int scenes) {
   std::string rows;
   for (int k = 0; k < scenes; ++k) rows += "s" + std::to_string(k) + ",0,v1,o1," + std::to_string(k) + ",0,0,1,0,0,1,0,1\n";
   return rows;
 }
 
-// A bad row found after the first block was fused and written (to the temporary file) still leaves no
+// A bad row found after earlier blocks were fused and written (to the temporary file) still leaves no
 // output, and what --out held before.
 TEST_F(Cli, LateBadRowLeavesNoOutputAndThePreviousOne) {
   write("e.csv", "previous\n");
