@@ -1,11 +1,16 @@
 // SPDX-License-Identifier: Apache-2.0
 // stgf eval --truth T --estimates E [E2 ...] [--measurements M] [--from-step K | --from-time S] [--json OUT]
+//
+// The files are read scene by scene when they are grouped by scene in one order, else whole
+// (stgf/io/evaluation_files.hpp); the numbers are the same either way.
 
 #include <cstdio>
 
+#include <spdlog/spdlog.h>
+
 #include "commands.hpp"
 #include "input_guard.hpp"
-#include "stgf/io/evaluation.hpp"
+#include "stgf/io/evaluation_files.hpp"
 #include "stgf/io/evaluation_report.hpp"
 #include "stgf/io/output_file.hpp"
 
@@ -25,13 +30,14 @@ void eval(const EvalOptions& options) {
   inputs.push_back(options.truth);
   inputs.push_back(options.measurements);
   refuse_output_over_input("--json", options.json, inputs);
-  const TruthFile truth = read_truth(options.truth);
-  std::vector<EstimateFile> estimates;
-  for (const std::string& path : options.estimates) estimates.push_back(read_estimates(path));
-  std::optional<MeasurementFile> measurements;
-  if (!options.measurements.empty()) measurements = read_measurements(options.measurements);
+  std::string read_whole_because;
   const Evaluation evaluation =
-      evaluate(truth, estimates, measurements ? &*measurements : nullptr, options.start);
+      evaluate_files(options.truth, options.estimates, options.measurements, options.start, &read_whole_because);
+  if (!read_whole_because.empty()) {
+    spdlog::info("eval: the files were read whole, not scene by scene ({}); group them by scene in one order to "
+                 "score them in the memory of one scene",
+                 read_whole_because);
+  }
   if (!options.json.empty()) write_text_file(options.json, evaluation_json(evaluation).dump(2) + "\n");
   std::fputs(evaluation_markdown(evaluation).c_str(), stdout);
 }

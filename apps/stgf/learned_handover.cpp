@@ -30,8 +30,8 @@ void add_reproduce_command(CLI::App& app) {
   add_handed_over_command(app, "reproduce", kReproduceDescription);
 }
 
-std::unique_ptr<LearnedMethod> prepare_learned_method(const std::string& method, const MethodConfig& /*config*/,
-                                                      const std::string& /*model_path*/) {
+std::unique_ptr<BlockMethod> prepare_learned_method(const std::string& method, const MethodConfig& /*config*/,
+                                                    const std::string& /*model_path*/) {
   hand_over_to_learned_cli("--method " + method);
 }
 

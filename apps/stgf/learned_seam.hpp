@@ -10,30 +10,20 @@
 //                  one of those is asked for, so a user only ever types `stgf`.
 
 #include <memory>
-#include <span>
 #include <string>
-#include <vector>
 
-#include "stgf/core/gaussian.hpp"
-#include "stgf/core/records.hpp"
+#include "block_method.hpp"
 #include "stgf/methods/registry.hpp"
 
 namespace stgf::cli {
 
 // The methods by name: all_method_names() and is_learned_method() of stgf/methods/registry.hpp.
 
-// A learned method with its model loaded and checked, ready to run.
-class LearnedMethod {
- public:
-  virtual ~LearnedMethod() = default;
-  // One estimate per row, in order.
-  virtual std::vector<Gaussian3> run(std::span<const Measurement> rows) const = 0;
-};
-
-// Loads the model of a learned method (std::invalid_argument naming the file when it is missing or
+// A learned method with its model loaded and checked, ready to be given the file block by block
+// (block_method.hpp). Loads the model (std::invalid_argument naming the file when it is missing or
 // trained for another method). In `stgf`, hands the command line over to stgf-learned instead.
-std::unique_ptr<LearnedMethod> prepare_learned_method(const std::string& method, const MethodConfig& config,
-                                                      const std::string& model_path);
+std::unique_ptr<BlockMethod> prepare_learned_method(const std::string& method, const MethodConfig& config,
+                                                    const std::string& model_path);
 
 // main() keeps the command line so that it can be handed over whole.
 void remember_command_line(int argc, char** argv);

@@ -4,13 +4,12 @@
 #include <spdlog/spdlog.h>
 
 #include "gating_log.hpp"
+#include "stgf/methods/filter_runner.hpp"
 
 namespace stgf::cli {
 
-std::vector<Gaussian3> run_method_and_log(const std::string& method, const MethodConfig& config, const MotionModel* model,
-                                          const std::string& model_path, std::span<const Measurement> rows) {
-  MethodRunReport report;
-  std::vector<Gaussian3> estimates = run_named_method(method, config, model, model_path, rows, &report);
+void log_method_report(const std::string& method, const MethodConfig& config, const MotionModel* model,
+                       const std::string& model_path, const MethodRunReport& report) {
   if (report.registration_missing) {
     spdlog::warn("{} holds no registration calibration (trained before stgf calibrated it); the views' offsets are "
                  "taken as zero unless set under `ours:` in --config",
@@ -32,34 +31,45 @@ std::vector<Gaussian3> run_method_and_log(const std::string& method, const Metho
                  "(each row's estimate is its own measurement)",
                  method, report.late_measurements, config.ours.lag_window);
   }
+}
+
+std::vector<Gaussian3> run_method_and_log(const std::string& method, const MethodConfig& config, const MotionModel* model,
+                                          const std::string& model_path, std::span<const Measurement> rows) {
+  MethodRunReport report;
+  std::vector<Gaussian3> estimates = run_named_method(method, config, model, model_path, rows, &report);
+  log_method_report(method, config, model, model_path, report);
   return estimates;
 }
 
 namespace {
 
-class LoadedMethod final : public LearnedMethod {
+// The model is loaded before the file is read; the NamedMethodRun takes the file block by block.
+class LoadedMethod final : public BlockMethod {
  public:
   LoadedMethod(std::string method, MethodConfig config, std::string model_path)
       : method_(std::move(method)),
         config_(std::move(config)),
         model_path_(std::move(model_path)),
-        model_(load_model_for(method_, model_path_)) {}
+        model_(load_model_for(method_, model_path_)),
+        run_(method_, config_, &model_, model_path_) {}
 
-  std::vector<Gaussian3> run(std::span<const Measurement> rows) const override {
-    return run_method_and_log(method_, config_, &model_, model_path_, rows);
-  }
+  std::size_t scenes_per_block() const override { return method_ == "sttp" ? 1 : kScenesPerFilterBlock; }
+  std::vector<Gaussian3> add(std::span<const Measurement> rows) override { return run_.add(rows); }
+  std::vector<Gaussian3> finish() override { return run_.finish(); }
+  void log_report() const override { log_method_report(method_, config_, &model_, model_path_, run_.report()); }
 
  private:
   std::string method_;
   MethodConfig config_;
   std::string model_path_;
   MotionModel model_;
+  NamedMethodRun run_;
 };
 
 }  // namespace
 
-std::unique_ptr<LearnedMethod> prepare_learned_method(const std::string& method, const MethodConfig& config,
-                                                      const std::string& model_path) {
+std::unique_ptr<BlockMethod> prepare_learned_method(const std::string& method, const MethodConfig& config,
+                                                    const std::string& model_path) {
   return std::make_unique<LoadedMethod>(method, config, model_path);
 }
 

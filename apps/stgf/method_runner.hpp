@@ -15,8 +15,12 @@
 
 namespace stgf::cli {
 
-// stgf::run_named_method, then one log line for each thing the user should know: restarted tracks,
-// rewinds for late rows, rows left out as too late, a model without registration calibration.
+// One log line for each thing the user should know of a run: a model without registration
+// calibration, restarted tracks, what the gate did, rewinds for late rows, rows left out as too late.
+void log_method_report(const std::string& method, const MethodConfig& config, const MotionModel* model,
+                       const std::string& model_path, const MethodRunReport& report);
+
+// stgf::run_named_method over a whole list, then log_method_report.
 std::vector<Gaussian3> run_method_and_log(const std::string& method, const MethodConfig& config, const MotionModel* model,
                                           const std::string& model_path, std::span<const Measurement> rows);
 

@@ -123,4 +123,11 @@ void GatingSummary::add(const std::string& scene, const ViewNoiseScales& scales)
   }
 }
 
+void GatingSummary::add(const GatingSummary& later) {
+  checked += later.checked;
+  gated += later.gated;
+  restarts += later.restarts;
+  views.insert(views.end(), later.views.begin(), later.views.end());
+}
+
 }  // namespace stgf

@@ -131,6 +131,8 @@ struct GatingSummary {
 
   // Adds a scene's views (those with a gated measurement or found disagreeing).
   void add(const std::string& scene, const ViewNoiseScales& scales);
+  // Adds the summary of later scenes (a file run in parts): the counts, and its views after these.
+  void add(const GatingSummary& later);
 };
 
 }  // namespace stgf

@@ -4,34 +4,54 @@
 #include <fmt/format.h>
 
 #include "stgf/io/csv_reader.hpp"
-#include "stgf/io/output_file.hpp"
 #include "stgf/io/record_columns.hpp"
+#include "stgf/io/scene_grouped_reader.hpp"
 
 namespace stgf {
 namespace {
 
-EstimateFile read_rows(CsvReader reader) {
-  const detail::KeyColumns keys = detail::require_key_columns(reader, /*with_view=*/true);
-  const detail::GaussianColumns gaussian = detail::require_gaussian_columns(reader);
-  const int method = reader.require_column("method");
-  EstimateFile file;
-  file.path = reader.path();
-  std::vector<detail::RowIdentity> identities;
-  CsvReader::Row row;
-  while (reader.next(row)) {
-    Estimate estimate{reader.text(row, keys.scene), reader.time(row, keys.time), reader.text(row, keys.view),
-                      reader.text(row, keys.object), detail::read_gaussian(reader, row, gaussian)};
-    file.methods.push_back(reader.text(row, method));
+// The rows of an estimates file, read whole or scene by scene through the same checks.
+class EstimateRows {
+ public:
+  explicit EstimateRows(const CsvReader& reader)
+      : keys_(detail::require_key_columns(reader, /*with_view=*/true)),
+        gaussian_(detail::require_gaussian_columns(reader)),
+        method_(reader.require_column("method")) {}
+
+  int scene_column() const { return keys_.scene; }
+
+  void append(const CsvReader& reader, const CsvReader::Row& row, EstimateFile& file,
+              std::vector<detail::RowIdentity>& identities) const {
+    Estimate estimate{reader.text(row, keys_.scene), reader.time(row, keys_.time), reader.text(row, keys_.view),
+                      reader.text(row, keys_.object), detail::read_gaussian(reader, row, gaussian_)};
+    file.methods.push_back(reader.text(row, method_));
     identities.push_back({file.methods.back() + '\n' + estimate.scene + '\n' + estimate.view + '\n' + estimate.object,
                           estimate.time, row.line, file.rows.size()});
     file.rows.push_back(std::move(estimate));
     file.lines.push_back(row.line);
   }
-  detail::check_no_duplicate_rows(file.path, std::move(identities), [&](std::size_t k) {
-    const Estimate& e = file.rows[k];
-    return fmt::format("method '{}', scene '{}', t {}, view '{}', object '{}'", file.methods[k], e.scene, e.time,
+
+  std::string describe(const EstimateFile& file, std::size_t row) const {
+    const Estimate& e = file.rows[row];
+    return fmt::format("method '{}', scene '{}', t {}, view '{}', object '{}'", file.methods[row], e.scene, e.time,
                        e.view, e.object);
-  });
+  }
+
+ private:
+  detail::KeyColumns keys_;
+  detail::GaussianColumns gaussian_;
+  int method_;
+};
+
+EstimateFile read_rows(CsvReader reader) {
+  const EstimateRows rows(reader);
+  EstimateFile file;
+  file.path = reader.path();
+  std::vector<detail::RowIdentity> identities;
+  CsvReader::Row row;
+  while (reader.next(row)) rows.append(reader, row, file, identities);
+  detail::check_no_duplicate_rows(file.path, std::move(identities),
+                                  [&](std::size_t k) { return rows.describe(file, k); });
   return file;
 }
 
@@ -43,21 +63,54 @@ EstimateFile parse_estimates(const std::string& path, std::string_view text) {
   return read_rows(CsvReader::from_text(path, std::string(text)));
 }
 
+struct EstimateSceneReader::Impl {
+  explicit Impl(CsvReader reader) : scenes(std::move(reader)) {}
+  detail::SceneGroupedReader<EstimateFile, EstimateRows> scenes;
+};
+
+EstimateSceneReader::EstimateSceneReader(std::unique_ptr<Impl> impl) : impl_(std::move(impl)) {}
+EstimateSceneReader::EstimateSceneReader(EstimateSceneReader&&) noexcept = default;
+EstimateSceneReader& EstimateSceneReader::operator=(EstimateSceneReader&&) noexcept = default;
+EstimateSceneReader::~EstimateSceneReader() = default;
+
+EstimateSceneReader EstimateSceneReader::open(const std::string& path) {
+  return EstimateSceneReader(std::make_unique<Impl>(CsvReader::open(path)));
+}
+
+EstimateSceneReader EstimateSceneReader::from_text(const std::string& path, std::string text) {
+  return EstimateSceneReader(std::make_unique<Impl>(CsvReader::from_text(path, std::move(text))));
+}
+
+bool EstimateSceneReader::read(EstimateFile& scene) {
+  scene.path = impl_->scenes.path();
+  scene.rows.clear();
+  scene.methods.clear();
+  scene.lines.clear();
+  return impl_->scenes.read_scene(scene);
+}
+
+EstimateWriter::EstimateWriter(const std::string& path, const std::string& method)
+    : file_(path), method_field_(detail::csv_field(method)) {
+  file_.stream() << "scene,t,view,object," << detail::kGaussianHeader << ",method\n";
+}
+
+void EstimateWriter::write(const std::string& scene, double time, const std::string& view, const std::string& object,
+                           const Gaussian3& position) {
+  line_.clear();
+  detail::append_key(line_, scene, time, &view, object);
+  detail::append_gaussian(line_, position);
+  line_ += ',';
+  line_ += method_field_;
+  line_ += '\n';
+  file_.stream() << line_;
+}
+
+void EstimateWriter::commit() { file_.commit(); }
+
 void write_estimates(const std::string& path, std::span<const Estimate> rows, const std::string& method) {
-  OutputFile file(path);
-  file.stream() << "scene,t,view,object," << detail::kGaussianHeader << ",method\n";
-  const std::string method_field = detail::csv_field(method);
-  std::string line;
-  for (const Estimate& row : rows) {
-    line.clear();
-    detail::append_key(line, row.scene, row.time, &row.view, row.object);
-    detail::append_gaussian(line, row.position);
-    line += ',';
-    line += method_field;
-    line += '\n';
-    file.stream() << line;
-  }
-  file.commit();
+  EstimateWriter writer(path, method);
+  for (const Estimate& row : rows) writer.write(row.scene, row.time, row.view, row.object, row.position);
+  writer.commit();
 }
 
 }  // namespace stgf

@@ -86,6 +86,17 @@ void build_reference(const Rows& rows, const Describe& describe, const ScoringSt
   }
 }
 
+void check_scoring_start(const ScoringStart& start) {
+  if (start.from_step < 0) throw std::invalid_argument("--from-step must be >= 0");
+  if (!std::isfinite(start.from_time_s) || start.from_time_s < 0.0) {
+    throw std::invalid_argument(
+        fmt::format("--from-time must be a finite number of seconds >= 0 (got {})", start.from_time_s));
+  }
+  if (start.from_step > 0 && start.from_time_s > 0.0) {
+    throw std::invalid_argument("--from-step and --from-time exclude each other: give one of them");
+  }
+}
+
 }  // namespace
 
 Evaluation evaluate(const TruthFile& truth, const std::vector<EstimateFile>& estimates,
@@ -96,14 +107,7 @@ Evaluation evaluate(const TruthFile& truth, const std::vector<EstimateFile>& est
 Evaluation evaluate(const TruthFile& truth, const std::vector<EstimateFile>& estimates,
                     const MeasurementFile* measurements, const ScoringStart& start) {
   if (estimates.empty()) throw std::invalid_argument("evaluate: no estimate file");
-  if (start.from_step < 0) throw std::invalid_argument("--from-step must be >= 0");
-  if (!std::isfinite(start.from_time_s) || start.from_time_s < 0.0) {
-    throw std::invalid_argument(
-        fmt::format("--from-time must be a finite number of seconds >= 0 (got {})", start.from_time_s));
-  }
-  if (start.from_step > 0 && start.from_time_s > 0.0) {
-    throw std::invalid_argument("--from-step and --from-time exclude each other: give one of them");
-  }
+  check_scoring_start(start);
   Evaluation evaluation;
   evaluation.truth_file = truth.path;
   evaluation.from_step = start.from_step;
@@ -197,6 +201,95 @@ Evaluation evaluate(const TruthFile& truth, const std::vector<EstimateFile>& est
     }
     score.overall = overall.summary();
     for (const auto& [views, accumulator] : by_views) score.by_views[views] = accumulator.summary();
+    evaluation.methods.push_back(std::move(score));
+  }
+  return evaluation;
+}
+
+SceneScores::SceneScores(std::string truth_path, std::vector<std::string> estimate_paths,
+                         std::string measurements_path, const ScoringStart& start)
+    : estimate_paths_(std::move(estimate_paths)), start_(start) {
+  check_scoring_start(start);
+  evaluation_.truth_file = std::move(truth_path);
+  evaluation_.measurements_file = std::move(measurements_path);
+  evaluation_.from_step = start.from_step;
+  evaluation_.from_time_s = start.from_time_s;
+}
+
+bool SceneScores::add(const TruthFile& truth, const std::vector<EstimateFile>& estimates,
+                      const MeasurementFile* measurements) {
+  // Each method's rows of the scene, in file order. Methods come in the order evaluate() finds them:
+  // by file, then row. The first scene must show them all (in a later one, a new method could have
+  // come earlier in evaluate()'s order, and lacks the earlier scenes' rows anyway).
+  std::vector<std::vector<std::size_t>> rows_of(methods_.size());
+  for (std::size_t file = 0; file < estimates.size(); ++file) {
+    for (std::size_t k = 0; k < estimates[file].rows.size(); ++k) {
+      const std::string& name = estimates[file].methods[k];
+      auto method = std::find_if(methods_.begin(), methods_.end(), [&](const Method& m) { return m.name == name; });
+      if (method == methods_.end()) {
+        if (!first_scene_) return false;
+        methods_.push_back(Method{name, file, {}, {}});
+        rows_of.emplace_back();
+        method = methods_.end() - 1;
+      } else if (method->file != file) {
+        return false;  // one method from two files
+      }
+      rows_of[static_cast<std::size_t>(method - methods_.begin())].push_back(k);
+    }
+  }
+  first_scene_ = false;
+  if (methods_.empty()) return false;
+
+  const TruthIndex truth_index(truth);
+  StepTimes steps;
+  std::unordered_map<std::string, ReferenceRow> reference;
+  // Messages are evaluate()'s to write: nothing here describes a row.
+  const auto undescribed = [](std::size_t) { return std::string(); };
+  if (measurements != nullptr) {
+    for (const Measurement& row : measurements->rows) {
+      if (!truth_index.find(row.scene, row.time, row.object)) return false;
+    }
+    build_reference(measurements->rows, undescribed, start_, steps, reference, evaluation_.rows_excluded);
+    for (const Measurement& row : measurements->rows) {
+      reference[row_key(row.scene, *steps.step_of(row.scene, row.time), row.view, row.object)].sensor =
+          row.sensor_position;
+    }
+  } else {
+    const EstimateFile& first = estimates[methods_.front().file];
+    std::vector<Estimate> first_rows;
+    for (std::size_t k : rows_of.front()) first_rows.push_back(first.rows[k]);
+    build_reference(first_rows, undescribed, start_, steps, reference, evaluation_.rows_excluded);
+  }
+
+  for (std::size_t m = 0; m < methods_.size(); ++m) {
+    Method& method = methods_[m];
+    const EstimateFile& file = estimates[method.file];
+    std::unordered_map<std::string, bool> seen;
+    for (std::size_t k : rows_of[m]) {
+      const Estimate& row = file.rows[k];
+      const std::optional<int> step = steps.step_of(row.scene, row.time);
+      if (!step) return false;
+      const std::string key = row_key(row.scene, *step, row.view, row.object);
+      const auto entry = reference.find(key);
+      if (entry == reference.end()) return false;
+      seen[key] = true;
+      const std::optional<Vector3d> truth_position = truth_index.find(row.scene, row.time, row.object);
+      if (!truth_position) return false;
+      if (entry->second.excluded) continue;
+      method.overall.add(row.position, *truth_position, entry->second.sensor);
+      method.by_views[entry->second.views].add(row.position, *truth_position, entry->second.sensor);
+    }
+    if (seen.size() != reference.size()) return false;
+  }
+  return true;
+}
+
+std::optional<Evaluation> SceneScores::result() const {
+  if (methods_.empty()) return std::nullopt;
+  Evaluation evaluation = evaluation_;
+  for (const Method& method : methods_) {
+    MethodScore score{method.name, estimate_paths_.at(method.file), method.overall.summary(), {}};
+    for (const auto& [views, accumulator] : method.by_views) score.by_views[views] = accumulator.summary();
     evaluation.methods.push_back(std::move(score));
   }
   return evaluation;

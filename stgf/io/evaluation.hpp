@@ -19,8 +19,13 @@
 //                   synchronous data at period T, from_time K·T leaves out exactly what from_step K
 //                   does.
 // At most one of the two may be set (std::invalid_argument otherwise).
+//
+// Scene by scene. SceneScores gives the same numbers, bit for bit, from one scene's rows of every
+// file at a time (`stgf eval` reads its files so when they are grouped by scene in one order:
+// evaluation_files.hpp). Each method's rows are added up in file order, as evaluate() adds them.
 
 #include <map>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -57,5 +62,40 @@ Evaluation evaluate(const TruthFile& truth, const std::vector<EstimateFile>& est
 // The same, from step `from_step`.
 Evaluation evaluate(const TruthFile& truth, const std::vector<EstimateFile>& estimates,
                     const MeasurementFile* measurements, int from_step);
+
+// evaluate(), one scene at a time. It judges only what one scene shows: anything evaluate() would
+// reject, or decide from other scenes, makes add() return false, and the caller then evaluates the
+// whole files, which reports it as evaluate() always has.
+class SceneScores {
+ public:
+  // The files' paths as given (for the result); `measurements_path` empty when the scored rows are the
+  // first method's. Checks `start` as evaluate() does.
+  SceneScores(std::string truth_path, std::vector<std::string> estimate_paths, std::string measurements_path,
+              const ScoringStart& start);
+
+  // One scene, after the scenes added before: its truth rows, its rows in each estimate file (in the
+  // order of the paths), and its measurements (nullptr: scored on the first method's rows). Returns
+  // false, and adds nothing more, when the scene has a row evaluate() rejects (an estimate without a
+  // reference row or without truth, a reference row without an estimate, a measurement without
+  // truth, a method in two files) or a method the first scene did not have.
+  bool add(const TruthFile& truth, const std::vector<EstimateFile>& estimates, const MeasurementFile* measurements);
+
+  // The evaluation of the scenes added; nullopt when they hold no method.
+  std::optional<Evaluation> result() const;
+
+ private:
+  struct Method {
+    std::string name;
+    std::size_t file = 0;  // index into the estimate paths
+    ErrorAccumulator overall;
+    std::map<int, ErrorAccumulator> by_views;
+  };
+
+  std::vector<std::string> estimate_paths_;
+  Evaluation evaluation_;  // everything but the methods' scores
+  ScoringStart start_;
+  std::vector<Method> methods_;  // in order of first appearance, as evaluate() lists them
+  bool first_scene_ = true;
+};
 
 }  // namespace stgf

@@ -10,29 +10,48 @@
 #include "stgf/io/measurement_file.hpp"
 #include "stgf/io/output_file.hpp"
 #include "stgf/io/record_columns.hpp"
+#include "stgf/io/scene_grouped_reader.hpp"
 
 namespace stgf {
 namespace {
 
-TruthFile read_rows(CsvReader reader) {
-  const detail::KeyColumns keys = detail::require_key_columns(reader, /*with_view=*/false);
-  int position[3];
-  detail::require_position_columns(reader, position);
-  TruthFile file;
-  file.path = reader.path();
-  std::vector<detail::RowIdentity> identities;
-  CsvReader::Row row;
-  while (reader.next(row)) {
-    TruthPoint point{reader.text(row, keys.scene), reader.time(row, keys.time), reader.text(row, keys.object),
-                     reader.vector3(row, position)};
+// The rows of a truth file, read whole or scene by scene through the same checks.
+class TruthRows {
+ public:
+  explicit TruthRows(const CsvReader& reader) : keys_(detail::require_key_columns(reader, /*with_view=*/false)) {
+    detail::require_position_columns(reader, position_);
+  }
+
+  int scene_column() const { return keys_.scene; }
+
+  void append(const CsvReader& reader, const CsvReader::Row& row, TruthFile& file,
+              std::vector<detail::RowIdentity>& identities) const {
+    TruthPoint point{reader.text(row, keys_.scene), reader.time(row, keys_.time), reader.text(row, keys_.object),
+                     reader.vector3(row, position_)};
     identities.push_back({point.scene + '\n' + point.object, point.time, row.line, file.rows.size()});
     file.rows.push_back(std::move(point));
     file.lines.push_back(row.line);
   }
-  detail::check_no_duplicate_rows(file.path, std::move(identities), [&](std::size_t k) {
-    const TruthPoint& p = file.rows[k];
+
+  std::string describe(const TruthFile& file, std::size_t row) const {
+    const TruthPoint& p = file.rows[row];
     return fmt::format("scene '{}', t {}, object '{}'", p.scene, p.time, p.object);
-  });
+  }
+
+ private:
+  detail::KeyColumns keys_;
+  int position_[3];
+};
+
+TruthFile read_rows(CsvReader reader) {
+  const TruthRows rows(reader);
+  TruthFile file;
+  file.path = reader.path();
+  std::vector<detail::RowIdentity> identities;
+  CsvReader::Row row;
+  while (reader.next(row)) rows.append(reader, row, file, identities);
+  detail::check_no_duplicate_rows(file.path, std::move(identities),
+                                  [&](std::size_t k) { return rows.describe(file, k); });
   return file;
 }
 
@@ -49,6 +68,31 @@ TruthFile read_truth(const std::string& path) { return read_rows(CsvReader::open
 
 TruthFile parse_truth(const std::string& path, std::string_view text) {
   return read_rows(CsvReader::from_text(path, std::string(text)));
+}
+
+struct TruthSceneReader::Impl {
+  explicit Impl(CsvReader reader) : scenes(std::move(reader)) {}
+  detail::SceneGroupedReader<TruthFile, TruthRows> scenes;
+};
+
+TruthSceneReader::TruthSceneReader(std::unique_ptr<Impl> impl) : impl_(std::move(impl)) {}
+TruthSceneReader::TruthSceneReader(TruthSceneReader&&) noexcept = default;
+TruthSceneReader& TruthSceneReader::operator=(TruthSceneReader&&) noexcept = default;
+TruthSceneReader::~TruthSceneReader() = default;
+
+TruthSceneReader TruthSceneReader::open(const std::string& path) {
+  return TruthSceneReader(std::make_unique<Impl>(CsvReader::open(path)));
+}
+
+TruthSceneReader TruthSceneReader::from_text(const std::string& path, std::string text) {
+  return TruthSceneReader(std::make_unique<Impl>(CsvReader::from_text(path, std::move(text))));
+}
+
+bool TruthSceneReader::read(TruthFile& scene) {
+  scene.path = impl_->scenes.path();
+  scene.rows.clear();
+  scene.lines.clear();
+  return impl_->scenes.read_scene(scene);
 }
 
 void write_truth(const std::string& path, std::span<const TruthPoint> rows) {

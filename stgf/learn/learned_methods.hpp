@@ -10,6 +10,7 @@
 // (`ours-l`, the fused-history prediction, is the spatiotemporal graph filter's own prediction before
 // each update: methods/filter_runner.hpp with predictions kept.)
 
+#include <deque>
 #include <span>
 #include <string>
 #include <vector>
@@ -25,5 +26,43 @@ namespace stgf {
 std::vector<Gaussian3> run_single_view_prediction(const MotionModel& model,
                                           std::span<const Measurement> measurements,
                                           std::size_t* restarted_tracks = nullptr);
+
+// `sttp` over a list given in parts, each part whole scenes, the parts in list order (a file read a
+// block of scenes at a time: `stgf run`, DESIGN §3.8), with the estimates run_single_view_prediction
+// gives for the whole list, bit for bit. Φ's forward passes see other graphs' rows in their matrix
+// products, so the passes must hold the same graphs: they take the graphs of all parts in order, in
+// chunks of kGraphsPerForwardPass across the parts' boundaries, and a part's estimates are complete
+// only once the pass holding its last graph has run (with a later part, or in finish()).
+class SingleViewPredictionStream {
+ public:
+  static constexpr std::size_t kGraphsPerForwardPass = 4096;
+
+  explicit SingleViewPredictionStream(const MotionModel& model);  // `model` must outlive the stream
+
+  // Takes the next part; returns the estimates now complete, one per row, in list order, following
+  // those returned before.
+  std::vector<Gaussian3> add(std::span<const Measurement> rows);
+  // The estimates of every row not returned yet (the last pass runs here).
+  std::vector<Gaussian3> finish();
+  // Tracks started again after a gap longer than the model's horizon, over the parts so far.
+  std::size_t restarted_tracks() const { return restarted_tracks_; }
+
+ private:
+  struct Part {
+    MotionGraphSet set;
+    std::vector<Gaussian3> first_sightings;          // the rows without a prediction: their own measurement
+    std::vector<std::vector<Vector3d>> predictions;  // per graph, as the passes reach it
+  };
+
+  // Runs the passes that are full (`to_the_end`: and the last, partial one).
+  void run_passes(bool to_the_end);
+  // Moves the estimates of the complete parts at the front into `estimates`.
+  void take_complete(std::vector<Gaussian3>& estimates);
+
+  const MotionModel& model_;
+  std::deque<Part> parts_;     // parts whose estimates are not all out, in order
+  std::size_t waiting_ = 0;    // graphs of those parts not through Φ yet
+  std::size_t restarted_tracks_ = 0;
+};
 
 }  // namespace stgf

@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: Apache-2.0
 #include "stgf/learn/named_methods.hpp"
 
+#include <iterator>
 #include <stdexcept>
 
 #include "stgf/learn/learned_methods.hpp"
@@ -34,29 +35,64 @@ FilterOptions filter_options_for(const OursSettings& settings, const nlohmann::j
   return options;
 }
 
+void MethodRunReport::add(const MethodRunReport& later) {
+  restarted_tracks += later.restarted_tracks;
+  rewinds += later.rewinds;
+  late_measurements += later.late_measurements;
+  registration_missing = registration_missing || later.registration_missing;
+  gating.add(later.gating);
+}
+
 std::vector<Gaussian3> run_named_method(const std::string& method, const MethodConfig& config, const MotionModel* model,
                                         const std::string& model_path, std::span<const Measurement> rows,
                                         MethodRunReport* report) {
-  MethodRunReport ignored;
-  MethodRunReport& out = report != nullptr ? *report : ignored;
-  out = MethodRunReport{};
-  if (!is_learned_method(method)) return run_method(method, config, rows);
-  if (model == nullptr) throw std::invalid_argument("--method " + method + " needs --model");
-  if (method == "sttp") return run_single_view_prediction(*model, rows, &out.restarted_tracks);
+  NamedMethodRun run(method, config, model, model_path);
+  std::vector<Gaussian3> estimates = run.add(rows);
+  std::vector<Gaussian3> rest = run.finish();
+  estimates.insert(estimates.end(), std::make_move_iterator(rest.begin()), std::make_move_iterator(rest.end()));
+  if (report != nullptr) *report = run.report();
+  return estimates;
+}
 
-  const FilterOptions options = filter_options_for(config.ours, model->metadata(), model_path, &out.registration_missing);
-  const bool prediction_only = method == "ours-l";
-  FilterRun run = run_spatiotemporal_graph_filter(*model, options, rows, /*keep_predictions=*/prediction_only);
-  out.restarted_tracks = run.restarted_tracks;
-  out.rewinds = run.rewinds;
-  out.late_measurements = run.late_measurements;
-  out.gating = std::move(run.gating);
+NamedMethodRun::NamedMethodRun(const std::string& method, const MethodConfig& config, const MotionModel* model,
+                               const std::string& model_path)
+    : method_(method), config_(config), model_(model), model_path_(model_path) {
+  if (is_learned_method(method_) && model_ == nullptr) throw std::invalid_argument("--method " + method_ + " needs --model");
+  if (method_ == "sttp") single_view_ = std::make_unique<SingleViewPredictionStream>(*model_);
+}
+
+NamedMethodRun::~NamedMethodRun() = default;
+
+std::vector<Gaussian3> NamedMethodRun::add(std::span<const Measurement> rows) {
+  if (!is_learned_method(method_)) return run_method(method_, config_, rows);
+  if (single_view_) {
+    std::vector<Gaussian3> estimates = single_view_->add(rows);
+    report_.restarted_tracks = single_view_->restarted_tracks();
+    return estimates;
+  }
+
+  MethodRunReport part;
+  const FilterOptions options = filter_options_for(config_.ours, model_->metadata(), model_path_, &part.registration_missing);
+  const bool prediction_only = method_ == "ours-l";
+  FilterRun run = run_spatiotemporal_graph_filter(*model_, options, rows, /*keep_predictions=*/prediction_only);
+  part.restarted_tracks = run.restarted_tracks;
+  part.rewinds = run.rewinds;
+  part.late_measurements = run.late_measurements;
+  part.gating = std::move(run.gating);
+  report_.add(part);
   if (prediction_only) {
     for (std::size_t row = 0; row < rows.size(); ++row) {
       if (const auto& prediction = run.predictions[row]) run.estimates[row] = prediction->prior;
     }
   }
   return std::move(run.estimates);
+}
+
+std::vector<Gaussian3> NamedMethodRun::finish() {
+  if (!single_view_) return {};
+  std::vector<Gaussian3> estimates = single_view_->finish();
+  report_.restarted_tracks = single_view_->restarted_tracks();
+  return estimates;
 }
 
 }  // namespace stgf

@@ -3,6 +3,7 @@
 // Every method of DESIGN §2 by name over measurement rows, the learned ones (sttp, ours-l, ours)
 // included: what `stgf run`, `stgf reproduce` and the Python module call.
 
+#include <memory>
 #include <span>
 #include <string>
 #include <vector>
@@ -34,6 +35,9 @@ struct MethodRunReport {
   std::size_t late_measurements = 0;  // rows later than the lag window, left out of the fusion
   bool registration_missing = false;  // the model holds no registration calibration (offsets taken as zero)
   GatingSummary gating;               // what the χ² gate did (its restarts are in restarted_tracks too)
+
+  // Adds what a run over later scenes did (a list run in parts).
+  void add(const MethodRunReport& later);
 };
 
 // One estimate per row, in order. `model` is required for the learned methods (std::invalid_argument
@@ -43,5 +47,38 @@ struct MethodRunReport {
 std::vector<Gaussian3> run_named_method(const std::string& method, const MethodConfig& config, const MotionModel* model,
                                         const std::string& model_path, std::span<const Measurement> rows,
                                         MethodRunReport* report = nullptr);
+
+class SingleViewPredictionStream;  // learned_methods.hpp
+
+// run_named_method over a list given in parts, each part whole scenes, the parts in list order (a
+// file read a block of scenes at a time: `stgf run`, DESIGN §3.8). The estimates are those of one
+// run over the whole list, bit for bit, when every part but the last holds kScenesPerFilterBlock
+// scenes (filter_runner.hpp): `ours` and `ours-l` batch Φ's passes within such blocks; `sttp`
+// continues its passes across parts on its own (SingleViewPredictionStream); the other methods treat
+// each scene alone. report() adds up what every part did.
+class NamedMethodRun {
+ public:
+  // Checks as run_named_method does (a learned method without a model: std::invalid_argument).
+  // `model` must outlive the run.
+  NamedMethodRun(const std::string& method, const MethodConfig& config, const MotionModel* model,
+                 const std::string& model_path);
+  ~NamedMethodRun();
+
+  // Takes the next part; returns the estimates now complete, one per row, in list order, following
+  // those returned before: all of the part's, but for sttp, whose last pass may wait for later parts.
+  // A late row under LatePolicy::kStop throws LateMeasurementError with the row's index in `rows`.
+  std::vector<Gaussian3> add(std::span<const Measurement> rows);
+  // The estimates of every row not returned yet.
+  std::vector<Gaussian3> finish();
+  const MethodRunReport& report() const { return report_; }
+
+ private:
+  std::string method_;
+  MethodConfig config_;
+  const MotionModel* model_;
+  std::string model_path_;
+  std::unique_ptr<SingleViewPredictionStream> single_view_;  // sttp
+  MethodRunReport report_;
+};
 
 }  // namespace stgf

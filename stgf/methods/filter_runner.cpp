@@ -12,8 +12,6 @@ namespace {
 
 // Graphs per predictor pass: large enough to amortise a pass, small enough to bound its memory.
 constexpr std::size_t kGraphsPerPass = 4096;
-// Scenes advanced together: enough to fill the passes, few enough that their filters' state stays small.
-constexpr std::size_t kScenesPerBlock = 256;
 
 // The deliveries of a scene: groups of row indices, in the order the filter receives them.
 std::vector<std::vector<std::size_t>> deliveries_of(const Scene& scene, std::span<const Measurement> measurements,
@@ -48,19 +46,23 @@ struct SceneRun {
   std::size_t next = 0;
 };
 
+// Rows whose estimate has come, so that a row left without one is caught.
+using Estimated = std::vector<bool>;
+
 // `results`: scratch, reused from call to call.
-void collect(SceneFilter& filter, std::vector<SceneFilter::Result>& results,
-             std::vector<std::optional<Gaussian3>>& estimates, FilterRun& run, bool keep_predictions) {
+void collect(SceneFilter& filter, std::vector<SceneFilter::Result>& results, Estimated& estimated, FilterRun& run,
+             bool keep_predictions) {
   filter.take_results(results);
   for (SceneFilter::Result& result : results) {
-    estimates[result.id] = result.estimate;
+    run.estimates[result.id] = result.estimate;
+    estimated[result.id] = true;
     if (keep_predictions) run.predictions[result.id] = result.prediction;
   }
 }
 
 void run_block(const MotionPredictor& predictor, const FilterOptions& options, std::span<const Measurement> measurements,
-               std::span<const Scene> scenes, bool by_arrival, std::vector<std::optional<Gaussian3>>& estimates,
-               FilterRun& run, bool keep_predictions) {
+               std::span<const Scene> scenes, bool by_arrival, Estimated& estimated, FilterRun& run,
+               bool keep_predictions) {
   std::vector<SceneRun> block;
   block.reserve(scenes.size());
   for (const Scene& scene : scenes) {
@@ -76,7 +78,7 @@ void run_block(const MotionPredictor& predictor, const FilterOptions& options, s
     for (SceneRun& scene : block) {
       for (;;) {
         const bool done = scene.filter->advance();
-        collect(*scene.filter, results, estimates, run, keep_predictions);
+        collect(*scene.filter, results, estimated, run, keep_predictions);
         if (!done) {
           waiting.push_back(&scene);
           const auto& request = scene.filter->forecast_request();
@@ -130,18 +132,20 @@ FilterRun run_spatiotemporal_graph_filter(const MotionPredictor& predictor, cons
   FilterOptions scene_options = options;
   if (!by_arrival) scene_options.lag_window = 0.0;  // steps come in time order: nothing to go back for
   const std::vector<Scene> scenes = group_into_scenes(measurements);
-  std::vector<std::optional<Gaussian3>> estimates(measurements.size());
   FilterRun run;
+  // One vector of estimates, each row's own measurement until its estimate comes (a Gaussian3 has no
+  // empty state; a vector of optionals beside it would hold every estimate twice).
+  run.estimates.reserve(measurements.size());
+  for (const Measurement& measurement : measurements) run.estimates.push_back(measurement.position);
+  Estimated estimated(measurements.size(), false);
   if (keep_predictions) run.predictions.resize(measurements.size());
-  for (std::size_t first = 0; first < scenes.size(); first += kScenesPerBlock) {
-    const std::size_t count = std::min(kScenesPerBlock, scenes.size() - first);
-    run_block(predictor, scene_options, measurements, std::span(scenes).subspan(first, count), by_arrival, estimates,
+  for (std::size_t first = 0; first < scenes.size(); first += kScenesPerFilterBlock) {
+    const std::size_t count = std::min(kScenesPerFilterBlock, scenes.size() - first);
+    run_block(predictor, scene_options, measurements, std::span(scenes).subspan(first, count), by_arrival, estimated,
               run, keep_predictions);
   }
-  run.estimates.reserve(measurements.size());
-  for (const auto& estimate : estimates) {
-    if (!estimate) throw std::logic_error("run_spatiotemporal_graph_filter: a row got no estimate");
-    run.estimates.push_back(*estimate);
+  if (std::find(estimated.begin(), estimated.end(), false) != estimated.end()) {
+    throw std::logic_error("run_spatiotemporal_graph_filter: a row got no estimate");
   }
   return run;
 }

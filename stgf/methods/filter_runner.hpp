@@ -14,7 +14,13 @@
 // time when the row was first processed (the answer a live user would have had), and rows later than
 // the lag window are counted and left out or stop the run (FilterOptions::late, LateMeasurementError
 // with the row's index as id).
+//
+// In parts. The scenes of a list are advanced kScenesPerFilterBlock at a time, and a batched pass
+// holds graphs of one block only. So a long list given in parts of whole scenes, each part but the
+// last of exactly kScenesPerFilterBlock scenes, gets the estimates of one call over the whole list,
+// bit for bit: `stgf run` reads its file in such parts (DESIGN §3.8).
 
+#include <cstddef>
 #include <optional>
 #include <span>
 #include <vector>
@@ -22,6 +28,10 @@
 #include "stgf/core/scene_filter.hpp"
 
 namespace stgf {
+
+// Scenes advanced together: enough to fill the predictor's passes, few enough that their filters'
+// state (and the rows of a file read in parts) stays small.
+inline constexpr std::size_t kScenesPerFilterBlock = 256;
 
 struct FilterRun {
   std::vector<Gaussian3> estimates;  // one per measurement row, in order

@@ -295,6 +295,52 @@ TEST_F(Cli, FailedRunKeepsThePreviousOutput) {
   expect_run_error(kHeader + "s,0,v1,o1,0,nan,0,1,0,0,1,0,1\n", "m.csv:2:", "previous\n");
 }
 
+// `stgf run` reads the file scene by scene: a scene whose rows come back after another scene's is an
+// error at that row (never two runs of one scene), with the command that groups the file.
+TEST_F(Cli, RunRejectsASceneThatComesBackAtItsLine) {
+  write("e.csv", "previous\n");
+  write("m.csv", kHeader + kGoodRows + "r,0,v1,o1,0,0,0,1,0,0,1,0,1\n" + "s,0.2,v1,o1,0.2,0,0,1,0,0,1,0,1\n");
+  const Result result = stgf("run --method wls --measurements m.csv --out e.csv");
+  EXPECT_EQ(result.status, 2) << result.err;
+  EXPECT_THAT(result.err, StartsWith("m.csv:6: scene 's' appears again after other scenes (its rows ended at line 4)"));
+  EXPECT_THAT(result.err, HasSubstr("sort -s -t, -k1,1"));
+  EXPECT_EQ(slurp(directory_ / "e.csv"), "previous\n");
+}
+
+// Scenes of one row each, row k at x = k: with 300 and more, more than one block of scenes for every
+// method (wls takes one scene a block, ours 256).
+std::string many_scene_rows(int scenes) {
+  std::string rows;
+  for (int k = 0; k < scenes; ++k) rows += "s" + std::to_string(k) + ",0,v1,o1," + std::to_string(k) + ",0,0,1,0,0,1,0,1\n";
+  return rows;
+}
+
+// A bad row found after earlier blocks were fused and written (to the temporary file) still leaves no
+// output, and what --out held before.
+TEST_F(Cli, LateBadRowLeavesNoOutputAndThePreviousOne) {
+  write("e.csv", "previous\n");
+  expect_run_error(kHeader + many_scene_rows(300) + "s300,0,v1,o1,0,0,0,1,0,0,1,0,nan\n",
+                   "m.csv:302: column 'cov_zz': 'nan' is not finite", "previous\n");
+  expect_run_error(kHeader + many_scene_rows(300) + "s299,0,v2,o1,0,0,0,1,0,0,1,0,1\n" + "s7,1,v1,o1,0,0,0,1,0,0,1,0,1\n",
+                   "m.csv:303: scene 's7' appears again", "previous\n");
+}
+
+// Across blocks, every row gets its own estimate, in file order.
+TEST_F(Cli, RunWritesEveryBlockInFileOrder) {
+  write("m.csv", kHeader + many_scene_rows(600));
+  const Result result = stgf("run --method wls --measurements m.csv --out e.csv");
+  ASSERT_EQ(result.status, 0) << result.err;
+  EXPECT_THAT(result.err, HasSubstr("wls: 600 estimates (600 scenes, 600 steps)"));
+  std::istringstream lines(slurp(directory_ / "e.csv"));
+  std::string line;
+  std::getline(lines, line);
+  for (int k = 0; k < 600; ++k) {
+    ASSERT_TRUE(std::getline(lines, line));
+    EXPECT_THAT(line, StartsWith("s" + std::to_string(k) + ",0.000000,v1,o1," + std::to_string(k) + ",0,0,1,"));
+  }
+  EXPECT_FALSE(std::getline(lines, line));
+}
+
 // An output that is an input (or a link to one) is refused before anything is read or written.
 TEST_F(Cli, OutputOverAnInputIsRefused) {
   write("m.csv", kHeader + kGoodRows);
@@ -609,6 +655,17 @@ TEST_F(Cli, LateRowsAreFusedInPlaceOrReportedAtTheirLine) {
   EXPECT_EQ(result.status, 2);
   EXPECT_THAT(result.err, HasSubstr("m.csv:7: measured at t = 0.500000 s, it arrived after the scene had reached t = 3.000000 s"));
   EXPECT_FALSE(exists("e2.csv"));
+
+  // The same scene after 300 others, in the second block of 256 scenes: the same line, counted in the file.
+  std::string filler;
+  for (int k = 0; k < 300; ++k) filler += "f" + std::to_string(k) + ",0,v1,o1,0,0,0,1,0,0,1,0,1,0.01\n";
+  const std::string text = slurp(directory_ / "m.csv");
+  write("m.csv", header + filler + text.substr(header.size()));
+  write("e2.csv", "previous\n");
+  result = stgf("run --method ours --model fused.pt --config stop.yaml --measurements m.csv --out e2.csv");
+  EXPECT_EQ(result.status, 2);
+  EXPECT_THAT(result.err, HasSubstr("m.csv:307: measured at t = 0.500000 s"));
+  EXPECT_EQ(slurp(directory_ / "e2.csv"), "previous\n");
 }
 
 TEST_F(Cli, LearnedMethodsNeedTheRightModel) {

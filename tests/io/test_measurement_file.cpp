@@ -12,6 +12,7 @@
 #include <gtest/gtest.h>
 
 #include "stgf/io/input_error.hpp"
+#include "stgf/io/scene_order.hpp"
 
 namespace stgf {
 namespace {
@@ -24,6 +25,24 @@ const std::string kHeader = "scene,t,view,object,x,y,z,cov_xx,cov_xy,cov_xz,cov_
 std::string error_of(const std::string& text) {
   try {
     parse_measurements("m.csv", text);
+  } catch (const InputError& error) {
+    return error.what();
+  }
+  return "no error";
+}
+
+// The same text read scene by scene, `scenes` at a time: the blocks, or the error.
+std::vector<MeasurementFile> blocks_of(const std::string& text, std::size_t scenes) {
+  MeasurementSceneReader reader = MeasurementSceneReader::from_text("m.csv", text);
+  std::vector<MeasurementFile> blocks;
+  MeasurementFile block;
+  while (reader.read(block, scenes) > 0) blocks.push_back(block);
+  return blocks;
+}
+
+std::string scene_by_scene_error_of(const std::string& text) {
+  try {
+    blocks_of(text, 1);
   } catch (const InputError& error) {
     return error.what();
   }
@@ -252,6 +271,118 @@ TEST(MeasurementFile, WrittenFileReadsBackTheSame) {
     EXPECT_LT((file.rows[k].position.covariance() - covariance).norm(), 1e-9);
     EXPECT_EQ(*file.rows[k].sensor_position, Vector3d(10, 20, 5));
   }
+}
+
+// ── Scene by scene (MeasurementSceneReader) ──────────────────────────────────────────────────────
+
+const std::string kSensorHeader =
+    "scene,t,view,object,x,y,z,cov_xx,cov_xy,cov_xz,cov_yy,cov_yz,cov_zz,sensor_x,sensor_y,sensor_z\n";
+// Five scenes, one with a blank line and a comment column's worth of odd spacing.
+const std::string kFiveScenes = kSensorHeader +
+                                "a,0,v1,o1,1,2,3,1,0,0,1,0,1,10,0,0\n"
+                                "a,0,v2,o1,1.5,2,3,2,0.1,0,1,0,1,0,10,0\n"
+                                "a,0.1,v1,o1,1.1,2,3,1,0,0,1,0,1,10,0,0\n"
+                                "c,0,v1,o2,5,5,0,1,0,0,1,0,1,10,0,0\n"
+                                "\n"
+                                "c,0.2,v1,o2,5.2,5,0,1,0,0,1,0,1,10,0,0\n"
+                                "b,7,v1,o1,0,0,0,0.5,0,0,0.5,0,0.5,10,0,0\n"
+                                "d,1,v3,o9,9,9,9,1,0,0,1,0,1,1,1,1\n"
+                                "d,1,v4,o9,9,9,9,1,0,0,1,0,1,1,1,1\n"
+                                "e,0,v1,o1, 3 ,2,1,1,0,0,1,0,1,10,0,0\n";
+
+TEST(MeasurementSceneReader, BlocksOfScenesHoldTheWholeReadersRows) {
+  const MeasurementFile whole = parse_measurements("m.csv", kFiveScenes);
+  const std::vector<MeasurementFile> blocks = blocks_of(kFiveScenes, 2);
+  ASSERT_EQ(blocks.size(), 3u);  // a c | b d | e
+  std::vector<Measurement> rows;
+  std::vector<int> lines;
+  for (const MeasurementFile& block : blocks) {
+    EXPECT_EQ(block.path, "m.csv");
+    EXPECT_TRUE(block.has_sensor_positions);
+    EXPECT_FALSE(block.has_arrival);
+    rows.insert(rows.end(), block.rows.begin(), block.rows.end());
+    lines.insert(lines.end(), block.lines.begin(), block.lines.end());
+  }
+  EXPECT_EQ(blocks[0].rows.back().scene, "c");
+  EXPECT_EQ(blocks[1].rows.front().scene, "b");
+  EXPECT_EQ(lines, whole.lines);
+  ASSERT_EQ(rows.size(), whole.rows.size());
+  for (std::size_t k = 0; k < rows.size(); ++k) {
+    EXPECT_EQ(rows[k].scene, whole.rows[k].scene);
+    EXPECT_EQ(rows[k].time, whole.rows[k].time);
+    EXPECT_EQ(rows[k].view, whole.rows[k].view);
+    EXPECT_EQ(rows[k].object, whole.rows[k].object);
+    EXPECT_EQ(rows[k].position.mean(), whole.rows[k].position.mean());
+    EXPECT_EQ(rows[k].position.covariance(), whole.rows[k].position.covariance());
+    EXPECT_EQ(rows[k].position.information(), whole.rows[k].position.information());
+    EXPECT_EQ(rows[k].sensor_position, whole.rows[k].sensor_position);
+  }
+}
+
+TEST(MeasurementSceneReader, EndsWithNoScenes) {
+  MeasurementSceneReader reader = MeasurementSceneReader::from_text("m.csv", kHeader + "s,0,v,o,1,2,3,1,0,0,1,0,1\n");
+  MeasurementFile block;
+  EXPECT_EQ(reader.read(block, 5), 1u);
+  EXPECT_EQ(block.rows.size(), 1u);
+  EXPECT_EQ(reader.read(block, 5), 0u);
+  EXPECT_TRUE(block.rows.empty());
+  EXPECT_EQ(blocks_of(kHeader, 3).size(), 0u);  // a header alone: no scene
+}
+
+// The whole-file reader takes rows in any order; read scene by scene, a scene that comes back after
+// another one is an error at that row, never a second scene of the same name.
+TEST(MeasurementSceneReader, ASceneThatComesBackIsRejectedAtItsLine) {
+  const std::string text = kHeader +
+                           "a,0,v,o,1,2,3,1,0,0,1,0,1\n"
+                           "a,0.1,v,o,1,2,3,1,0,0,1,0,1\n"
+                           "b,0,v,o,1,2,3,1,0,0,1,0,1\n"
+                           "c,0,v,o,1,2,3,1,0,0,1,0,1\n"
+                           "a,0.2,v,o,1,2,3,1,0,0,1,0,1\n";
+  EXPECT_EQ(error_of(text), "no error");
+  const std::string message = scene_by_scene_error_of(text);
+  EXPECT_THAT(message, StartsWith("m.csv:6: scene 'a' appears again after other scenes (its rows ended at line 3)"));
+  EXPECT_THAT(message, HasSubstr("(head -n 1 m.csv && tail -n +2 m.csv | LC_ALL=C sort -s -t, -k1,1) > grouped.csv"));
+  try {
+    blocks_of(text, 1);
+  } catch (const SceneOrderError& error) {
+    EXPECT_EQ(error.line(), 6);
+  }
+}
+
+// Every check of the whole-file reader holds scene by scene, with the same message at the same line,
+// in any scene of the file.
+TEST(MeasurementSceneReader, RejectsWhatTheWholeReaderRejects) {
+  const std::string good = "a,0,v,o,1,2,3,1,0,0,1,0,1\nb,0,v,o,1,2,3,1,0,0,1,0,1\n";
+  const std::string arrival_header = "scene,t,view,object,x,y,z,cov_xx,cov_xy,cov_xz,cov_yy,cov_yz,cov_zz,arrival\n";
+  const std::vector<std::string> bad = {
+      "scene,t,view,object,x,y,z,cov_xx,cov_xy,cov_xz,cov_yy,cov_zz\n" + good,
+      "scene,t,view,object,x,y,z,cov_xx,cov_xy,cov_xz,cov_yy,cov_yz,cov_zz,sensor_x\n",
+      kHeader + good + "c,0,v,o,1,two,3,1,0,0,1,0,1\n",
+      kHeader + good + "c,0,v,o,1,2,3,1,0,0,1,0\n",
+      kHeader + good + "c,0,v,,1,2,3,1,0,0,1,0,1\n",
+      kHeader + good + ",0,v,o,1,2,3,1,0,0,1,0,1\n",
+      kHeader + good + "c,1e60,v,o,1,2,3,1,0,0,1,0,1\n",
+      kHeader + good + "c,0,v,o,1,2,3,1,2,0,1,0,1\n",
+      kHeader + good + "c,0,v,o,1,2,3,1,0,0,1,0,inf\n",
+      kHeader + good + "c,0,v,o,1,2,3,1,0,0,1,0,1\nc,0.0000005,v,o,1,2,3,1,0,0,1,0,1\n",
+      arrival_header + "a,0,v,o,1,2,3,1,0,0,1,0,1,0\nb,1,v,o,1,2,3,1,0,0,1,0,1,0.5\n",
+      arrival_header + "a,0,v,o,1,2,3,1,0,0,1,0,1,0\nb,1,v,o,1,2,3,1,0,0,1,0,1,\n",
+  };
+  for (const std::string& text : bad) {
+    const std::string whole = error_of(text);
+    EXPECT_NE(whole, "no error") << text;
+    EXPECT_EQ(scene_by_scene_error_of(text), whole) << text;
+  }
+}
+
+// With several problems, the whole-file reader reports a bad field anywhere before any duplicate
+// (duplicates are sought once every row is read); scene by scene, a duplicate is found when its scene
+// ends, so the first problem in the file comes first. Both reject the file.
+TEST(MeasurementSceneReader, ReportsTheFirstProblemInTheFile) {
+  const std::string text = kHeader + "a,0,v,o,1,2,3,1,0,0,1,0,1\na,0,v,o,1,2,3,1,0,0,1,0,1\nb,0,v,o,1,two,3,1,0,0,1,0,1\n";
+  EXPECT_EQ(error_of(text), "m.csv:4: column 'y': 'two' is not a number");
+  EXPECT_EQ(scene_by_scene_error_of(text),
+            "m.csv:3: duplicate row for scene 'a', t 0, view 'v', object 'o' (first at line 2)");
 }
 
 }  // namespace

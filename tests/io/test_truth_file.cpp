@@ -71,5 +71,41 @@ TEST(TruthFile, UnmeasuredTruthRowsOfMeasuredScenesAreFine) {
   EXPECT_EQ(error_of([&] { check_truth_matches(measurements, truth); }), "no error");
 }
 
+// Scene by scene: each scene's rows with their lines, the whole reader's checks, and a scene that
+// comes back named at its line.
+TEST(TruthSceneReader, ReadsOneSceneAtATime) {
+  TruthSceneReader reader = TruthSceneReader::from_text(
+      "t.csv", "scene,t,object,x,y,z\ns,0.1,o,1,2,3\ns,0.2,o,1,2,4\nr,0.1,o,5,6,7\n");
+  TruthFile scene;
+  ASSERT_TRUE(reader.read(scene));
+  EXPECT_EQ(scene.path, "t.csv");
+  ASSERT_EQ(scene.rows.size(), 2u);
+  EXPECT_EQ(scene.lines, (std::vector<int>{2, 3}));
+  EXPECT_EQ(scene.rows[1].position, Vector3d(1, 2, 4));
+  ASSERT_TRUE(reader.read(scene));
+  EXPECT_EQ(scene.rows.size(), 1u);
+  EXPECT_EQ(scene.rows[0].scene, "r");
+  EXPECT_EQ(scene.lines, std::vector<int>{4});
+  EXPECT_FALSE(reader.read(scene));
+}
+
+TEST(TruthSceneReader, RejectsWhatTheWholeReaderRejectsAndScenesThatComeBack) {
+  const auto scene_by_scene = [](const std::string& text) {
+    return error_of([&] {
+      TruthSceneReader reader = TruthSceneReader::from_text("t.csv", text);
+      TruthFile scene;
+      while (reader.read(scene)) {
+      }
+    });
+  };
+  for (const std::string text : {"scene,t,object,x,y\n", "scene,t,object,x,y,z\ns,0,o,1,2,3\nr,0,o,1,x,3\n",
+                                 "scene,t,object,x,y,z\ns,0,o,1,2,3\nr,0,o,1,2,3\nr,0.0000001,o,1,2,3\n"}) {
+    EXPECT_NE(error_of([&] { parse_truth("t.csv", text); }), "no error") << text;
+    EXPECT_EQ(scene_by_scene(text), error_of([&] { parse_truth("t.csv", text); })) << text;
+  }
+  EXPECT_EQ(scene_by_scene("scene,t,object,x,y,z\ns,0,o,1,2,3\nr,0,o,1,2,3\ns,1,o,1,2,3\n").substr(0, 74),
+            "t.csv:4: scene 's' appears again after other scenes (its rows ended at lin");
+}
+
 }  // namespace
 }  // namespace stgf

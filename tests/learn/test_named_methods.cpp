@@ -1,0 +1,132 @@
+// SPDX-License-Identifier: Apache-2.0
+// A method given a list in parts of whole scenes (NamedMethodRun, as `stgf run` gives it a file a block
+// of scenes at a time) gives the estimates of one run over the whole list, bit for bit: Φ's batched
+// passes see the same graphs. With more scenes than one block of the filter runner, and more graphs
+// than one forward pass of sttp, so that the parts' boundaries fall inside the batching.
+
+#include "stgf/learn/named_methods.hpp"
+
+#include <gtest/gtest.h>
+
+#include "stgf/datasets/synthetic.hpp"
+#include "stgf/learn/learned_methods.hpp"
+#include "stgf/learn/motion_graphs.hpp"
+#include "stgf/methods/filter_runner.hpp"
+
+namespace stgf {
+namespace {
+
+// 300 scenes (more than kScenesPerFilterBlock = 256) of 2 objects seen by 3 views over 8 steps: 6300
+// sttp graphs (more than one forward pass of 4096).
+const std::vector<Measurement>& many_scenes() {
+  static const std::vector<Measurement> rows = [] {
+    SyntheticOptions options;
+    options.seed = 9;
+    options.scenes = 300;
+    options.objects = 2;
+    options.views = 3;
+    options.steps = 8;
+    return make_synthetic_benchmark(options).test.measurements;
+  }();
+  return rows;
+}
+
+// The list cut into parts of `scenes` whole scenes each (the last one shorter).
+std::vector<std::span<const Measurement>> parts_of(std::span<const Measurement> rows, std::size_t scenes) {
+  std::vector<std::span<const Measurement>> parts;
+  std::size_t first = 0;
+  std::size_t in_part = 0;
+  for (std::size_t k = 1; k <= rows.size(); ++k) {
+    if (k < rows.size() && rows[k].scene == rows[k - 1].scene) continue;
+    if (++in_part == scenes || k == rows.size()) {
+      parts.push_back(rows.subspan(first, k - first));
+      first = k;
+      in_part = 0;
+    }
+  }
+  return parts;
+}
+
+const MotionModel& model() {
+  static const MotionModel loaded = [] {
+    MotionModelShape shape;
+    shape.history_length = 4;
+    return MotionModel(shape, MotionNormalisation{1.2, 0.1, 5.0, 0.1}, 7);
+  }();
+  return loaded;
+}
+
+void expect_identical(const std::vector<Gaussian3>& a, const std::vector<Gaussian3>& b, const std::string& what) {
+  ASSERT_EQ(a.size(), b.size()) << what;
+  std::size_t differing = 0;
+  for (std::size_t k = 0; k < a.size(); ++k) {
+    if (a[k].mean() != b[k].mean() || a[k].covariance() != b[k].covariance()) ++differing;
+  }
+  EXPECT_EQ(differing, 0u) << what << ": rows whose estimate is not bit for bit the whole run's";
+}
+
+std::vector<Gaussian3> in_parts(const std::string& method, std::size_t scenes_per_part, MethodRunReport& report) {
+  NamedMethodRun run(method, MethodConfig{}, &model(), "model.pt");
+  std::vector<Gaussian3> estimates;
+  for (std::span<const Measurement> part : parts_of(many_scenes(), scenes_per_part)) {
+    const std::vector<Gaussian3> now = run.add(part);
+    estimates.insert(estimates.end(), now.begin(), now.end());
+  }
+  const std::vector<Gaussian3> rest = run.finish();
+  estimates.insert(estimates.end(), rest.begin(), rest.end());
+  report = run.report();
+  return estimates;
+}
+
+TEST(NamedMethodRun, PartsOfAFilterBlockGiveTheWholeRunsEstimates) {
+  ASSERT_EQ(parts_of(many_scenes(), kScenesPerFilterBlock).size(), 2u);
+  for (const std::string method : {"ours", "ours-l", "sttp", "wls", "mmt"}) {
+    MethodRunReport whole_report;
+    const std::vector<Gaussian3> whole =
+        run_named_method(method, MethodConfig{}, &model(), "model.pt", many_scenes(), &whole_report);
+    MethodRunReport parts_report;
+    expect_identical(in_parts(method, kScenesPerFilterBlock, parts_report), whole, method);
+    EXPECT_EQ(parts_report.restarted_tracks, whole_report.restarted_tracks) << method;
+    EXPECT_EQ(parts_report.registration_missing, whole_report.registration_missing) << method;
+    EXPECT_EQ(parts_report.gating.checked, whole_report.gating.checked) << method;
+  }
+}
+
+// sttp and the model-free methods do not depend on the parts' size at all.
+TEST(NamedMethodRun, SttpAndModelFreeMethodsTakeAnyParts) {
+  for (const std::string method : {"sttp", "wls", "aom"}) {
+    const std::vector<Gaussian3> whole = run_named_method(method, MethodConfig{}, &model(), "model.pt", many_scenes());
+    for (const std::size_t scenes : {1u, 7u, 256u}) {
+      MethodRunReport report;
+      expect_identical(in_parts(method, scenes, report), whole, method + " in parts of " + std::to_string(scenes));
+    }
+  }
+}
+
+// sttp's estimates of a part wait for the forward pass that holds its last graph.
+TEST(SingleViewPredictionStream, EstimatesComeOnceTheirPassHasRun) {
+  const std::vector<std::span<const Measurement>> parts = parts_of(many_scenes(), 120);
+  ASSERT_EQ(parts.size(), 3u);
+  std::vector<std::size_t> graphs;  // sttp's graphs of each part
+  for (std::span<const Measurement> part : parts) {
+    graphs.push_back(make_motion_graph_set(part, HistorySource::kRawView, 5, model().prediction_horizon()).graphs.size());
+  }
+  const std::size_t pass = SingleViewPredictionStream::kGraphsPerForwardPass;
+  // The first pass ends within the second part, and no later pass is full.
+  ASSERT_LT(graphs[0], pass);
+  ASSERT_GT(graphs[0] + graphs[1], pass);
+  ASSERT_LT(graphs[0] + graphs[1] + graphs[2], 2 * pass);
+  SingleViewPredictionStream stream(model());
+  EXPECT_EQ(stream.add(parts[0]).size(), 0u);
+  EXPECT_EQ(stream.add(parts[1]).size(), parts[0].size());
+  EXPECT_EQ(stream.add(parts[2]).size(), 0u);
+  EXPECT_EQ(stream.finish().size(), parts[1].size() + parts[2].size());
+}
+
+TEST(NamedMethodRun, LearnedMethodsNeedTheModel) {
+  EXPECT_THROW(NamedMethodRun("ours", MethodConfig{}, nullptr, ""), std::invalid_argument);
+  EXPECT_THROW(NamedMethodRun("sttp", MethodConfig{}, nullptr, ""), std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace stgf
