@@ -19,9 +19,9 @@ namespace stgf::cli {
 class BlockMethod {
  public:
   virtual ~BlockMethod() = default;
-  // The scenes of a block: kScenesPerFilterBlock for ours and ours-l, whose batched passes of Φ span
-  // the scenes of such a block (filter_runner.hpp); one for the others, which give any block of whole
-  // scenes the same estimates (sttp continues its passes across blocks), so that memory holds a scene.
+  // The scenes of a block: kScenesPerFilterBlock for ours and ours-l (filter_runner.hpp); one for the
+  // others (sttp continues its passes across blocks). Every method gives any blocks of whole scenes
+  // the same estimates; the block bounds what memory holds.
   virtual std::size_t scenes_per_block() const = 0;
   // Takes the next block's rows; returns the estimates now complete, in file order, following those
   // returned before: all of the block's, but for sttp, whose last forward pass may wait for later

@@ -52,10 +52,10 @@ class SingleViewPredictionStream;  // learned_methods.hpp
 
 // run_named_method over a list given in parts, each part whole scenes, the parts in list order (a
 // file read a block of scenes at a time: `stgf run`, DESIGN §3.8). The estimates are those of one
-// run over the whole list, bit for bit, when every part but the last holds kScenesPerFilterBlock
-// scenes (filter_runner.hpp): `ours` and `ours-l` batch Φ's passes within such blocks; `sttp`
-// continues its passes across parts on its own (SingleViewPredictionStream); the other methods treat
-// each scene alone. report() adds up what every part did.
+// run over the whole list, bit for bit, whatever the parts' sizes: Φ computes each object from its own
+// graph (learn/motion_inference.hpp), whatever else is in a pass; `sttp` continues its passes across
+// parts on its own (SingleViewPredictionStream); the other methods treat each scene alone. report()
+// adds up what every part did.
 class NamedMethodRun {
  public:
   // Checks as run_named_method does (a learned method without a model: std::invalid_argument).

@@ -15,10 +15,10 @@
 // the lag window are counted and left out or stop the run (FilterOptions::late, LateMeasurementError
 // with the row's index as id).
 //
-// In parts. The scenes of a list are advanced kScenesPerFilterBlock at a time, and a batched pass
-// holds graphs of one block only. So a long list given in parts of whole scenes, each part but the
-// last of exactly kScenesPerFilterBlock scenes, gets the estimates of one call over the whole list,
-// bit for bit: `stgf run` reads its file in such parts (DESIGN §3.8).
+// In parts. The scenes of a list are advanced kScenesPerFilterBlock at a time. Φ computes each object
+// from its own graph alone (learn/motion_inference.hpp), so a long list given in parts of whole
+// scenes, of any sizes, gets the estimates of one call over the whole list, bit for bit: `stgf run`
+// reads its file in parts of kScenesPerFilterBlock scenes (DESIGN §3.8).
 
 #include <cstddef>
 #include <optional>
@@ -29,9 +29,11 @@
 
 namespace stgf {
 
-// Scenes advanced together: enough to fill the predictor's passes, few enough that their filters'
-// state (and the rows of a file read in parts) stays small.
-inline constexpr std::size_t kScenesPerFilterBlock = 256;
+// Scenes advanced together: their forecasts are asked for together (a predictor that batches would
+// amortise its passes over them; Φ's Eigen pass costs the same either way), few enough that their
+// filters' state and the rows of a file read in parts stay small (`stgf run` on the mpl test split:
+// 16 scenes hold about 6,000 rows).
+inline constexpr std::size_t kScenesPerFilterBlock = 16;
 
 struct FilterRun {
   std::vector<Gaussian3> estimates;  // one per measurement row, in order

@@ -656,7 +656,7 @@ TEST_F(Cli, LateRowsAreFusedInPlaceOrReportedAtTheirLine) {
   EXPECT_THAT(result.err, HasSubstr("m.csv:7: measured at t = 0.500000 s, it arrived after the scene had reached t = 3.000000 s"));
   EXPECT_FALSE(exists("e2.csv"));
 
-  // The same scene after 300 others, in the second block of 256 scenes: the same line, counted in the file.
+  // The same scene after 300 others, in a later block of scenes: the same line, counted in the file.
   std::string filler;
   for (int k = 0; k < 300; ++k) filler += "f" + std::to_string(k) + ",0,v1,o1,0,0,0,1,0,0,1,0,1,0.01\n";
   const std::string text = slurp(directory_ / "m.csv");
