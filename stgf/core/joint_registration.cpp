@@ -15,16 +15,45 @@ namespace {
 
 using MatrixX3 = Eigen::Matrix<double, Eigen::Dynamic, 3>;
 
-// Σ Mᵀ for a 3-row M (= (M Σ)ᵀ, Σ symmetric): three matrix-vector products down Σ's columns.
-MatrixX3 sigma_times_transposed(const Eigen::MatrixXd& sigma, const Matrix3X& m) {
-  MatrixX3 result(sigma.rows(), 3);
-  for (int k = 0; k < 3; ++k) result.col(k).noalias() = sigma * m.row(k).transpose();
-  return result;
+// The object's conditional term of the joint information, BᵀP⁻¹B and BᵀP⁻¹â, as Uᵀ U and Uᵀ w with
+// Uᵀ = (L_P⁻¹ B)ᵀ (c × 3) and w = L_P⁻¹ â (P = L_P L_Pᵀ).
+struct ConditionalTerm {
+  MatrixX3 u_transposed;
+  Vector3d w;
+};
+
+// The kernels below are written for a few right-hand sides (3 or 6) and c up to a few hundred, where
+// Eigen's blocked triangular solve and rank update spend more on packing than on arithmetic.
+
+// X ← L⁻¹ X for the lower triangle L of `factor` (forward substitution by columns of L).
+template <int Columns>
+void forward_substitute(const Eigen::MatrixXd& factor, Eigen::Matrix<double, Eigen::Dynamic, Columns>& x) {
+  const Eigen::Index size = factor.rows();
+  for (Eigen::Index j = 0; j < size; ++j) {
+    x.row(j) /= factor(j, j);
+    const Eigen::Index below = size - j - 1;
+    if (below > 0) x.bottomRows(below).noalias() -= factor.col(j).tail(below) * x.row(j);
+  }
 }
 
-// M Σ Mᵀ for a 3-row M.
-Matrix3d quadratic_form(const Matrix3X& m, const Eigen::MatrixXd& sigma) {
-  return m.lazyProduct(sigma_times_transposed(sigma, m));
+// M Σ Mᵀ = (L⁻¹ Mᵀ)ᵀ (L⁻¹ Mᵀ) for Σ = (L Lᵀ)⁻¹ and rows M.
+template <int Rows>
+Eigen::Matrix<double, Rows, Rows> inverse_quadratic_form(const Eigen::MatrixXd& factor,
+                                                         const Eigen::Matrix<double, Rows, Eigen::Dynamic>& rows) {
+  Eigen::Matrix<double, Eigen::Dynamic, Rows> whitened = rows.transpose();
+  forward_substitute(factor, whitened);
+  return whitened.transpose().lazyProduct(whitened);
+}
+
+// The lower triangle of M gets Aᵀᵀ Aᵀ − Bᵀᵀ Bᵀ (two rank-3 terms, given as c × 3 matrices).
+void add_rank3_difference(Eigen::MatrixXd& lower, const MatrixX3& added, const MatrixX3& subtracted) {
+  const Eigen::Index size = lower.rows();
+  for (Eigen::Index j = 0; j < size; ++j) {
+    const Eigen::Index n = size - j;
+    lower.col(j).tail(n) += added.col(0).tail(n) * added(j, 0) + added.col(1).tail(n) * added(j, 1) +
+                            added.col(2).tail(n) * added(j, 2) - subtracted.col(0).tail(n) * subtracted(j, 0) -
+                            subtracted.col(1).tail(n) * subtracted(j, 1) - subtracted.col(2).tail(n) * subtracted(j, 2);
+  }
 }
 
 }  // namespace
@@ -50,16 +79,19 @@ void JointRegistration::add_block(ViewBlocks& view, const Eigen::Matrix<double, 
   const auto size = static_cast<Eigen::Index>(kept.size());
   if (size == 0) return;
   Eigen::Matrix<double, 6, Eigen::Dynamic> basis(6, size);
-  const Eigen::Index start = offsets_mean_.size();
-  offsets_mean_.conservativeResize(start + size);
-  offsets_mean_.tail(size).setZero();
-  offsets_covariance_.conservativeResize(start + size, start + size);
-  offsets_covariance_.rightCols(size).setZero();
-  offsets_covariance_.bottomRows(size).setZero();
+  // Zero mean (m unchanged there), information 1/λ along each kept direction, independent of the rest.
+  const Eigen::Index start = offsets_information_vector_.size();
+  offsets_information_vector_.conservativeResize(start + size);
+  offsets_information_vector_.tail(size).setZero();
+  offsets_information_.conservativeResize(start + size, start + size);
+  offsets_information_.rightCols(size).setZero();
+  offsets_information_.bottomRows(size).setZero();
   for (Eigen::Index k = 0; k < size; ++k) {
     basis.col(k) = directions * eigen.eigenvectors().col(kept[k]);
-    offsets_covariance_(start + k, start + k) = values(kept[k]);
+    offsets_information_(start + k, start + k) = 1.0 / values(kept[k]);
   }
+  stale_ = true;
+  ++version_;
   for (auto& [name, object] : objects_) {
     object.offsets.conservativeResize(Eigen::NoChange, start + size);
     object.offsets.rightCols(size).setZero();  // no position depends on the new block
@@ -76,7 +108,7 @@ const JointRegistration::ViewBlocks* JointRegistration::add_view(std::string_vie
 }
 
 Eigen::MatrixXd JointRegistration::offset_selector(const ViewBlocks& view) const {
-  Eigen::MatrixXd selector = Eigen::MatrixXd::Zero(6, offsets_mean_.size());
+  Eigen::MatrixXd selector = Eigen::MatrixXd::Zero(6, offsets_information_vector_.size());
   for (const OffsetBlock& block : view.blocks) selector.middleCols(block.start, block.basis.cols()) = block.basis;
   return selector;
 }
@@ -101,7 +133,7 @@ void JointRegistration::add_object(const Measurement& first, double noise_scale)
   const Matrix3d& r = first.position.covariance();
   // p = z − H_u β_u − e: a = z − e, B = −C with C of a position that does not depend on β.
   ObjectState object{first.position.mean(), noise_scale * r,
-                     Matrix3X::Zero(3, offsets_mean_.size())};
+                     Matrix3X::Zero(3, offsets_information_vector_.size())};
   object.offsets = -measurement_offsets(object, view, offset_jacobian(r));
   objects_.emplace(first.object, std::move(object));
 }
@@ -133,42 +165,96 @@ JointRegistration::Innovation JointRegistration::innovation(const Measurement& m
   const Matrix36 h = offset_jacobian(r);
   // ν = z − p̂_i − H_u β̂_u = z − â_i − C β̂,  S = P_i + C Σ_β Cᵀ + μR (+ H_u Σ_prior H_uᵀ for a view not yet seen).
   const Matrix3X c = measurement_offsets(object, view, h);
+  refresh();
   Innovation result{measurement.position.mean() - object.mean - c * offsets_mean_,
-                    object.covariance + quadratic_form(c, offsets_covariance_) + noise_scale * r};
+                    object.covariance + quadratic_form(c) + noise_scale * r};
   if (view == nullptr && !prior_.is_zero()) result.covariance += h * prior_covariance_ * h.transpose();
   result.covariance = symmetrised(result.covariance);
   return result;
 }
 
 void JointRegistration::update(const Measurement& measurement, double noise_scale) {
-  if (!has_object(measurement.object)) throw std::logic_error("JointRegistration::update: unknown object");
-  const ViewBlocks* view = add_view(measurement.view);
-  ObjectState& object = objects_.find(measurement.object)->second;
-  const Matrix3d& r = measurement.position.covariance();
-  const Vector3d& z = measurement.position.mean();
-  const Matrix3X c = measurement_offsets(object, view, offset_jacobian(r));
-  const Matrix3d t = symmetrised(object.covariance + noise_scale * r);  // T = P_i + μR
-  // The offsets: z − â_i = C β + (a_i − â_i + e), noise T. With S = C Σ_β Cᵀ + T = L Lᵀ and
-  // V = L⁻¹ C Σ_β: β̂ += Vᵀ L⁻¹ ν and Σ_β −= Vᵀ V (its lower triangle, mirrored: symmetric exactly).
-  const MatrixX3 sigma_c = sigma_times_transposed(offsets_covariance_, c);  // Σ_β Cᵀ
-  const Eigen::LLT<Matrix3d> s_factor(symmetrised(c.lazyProduct(sigma_c) + t));
-  if (s_factor.info() != Eigen::Success) {
-    throw std::runtime_error("registration: innovation covariance not positive definite");
+  const Measurement* one = &measurement;
+  update(std::span(&one, 1), std::span(&noise_scale, 1));
+}
+
+void JointRegistration::update(std::span<const Measurement* const> measurements, std::span<const double> noise_scales) {
+  if (measurements.size() != noise_scales.size()) throw std::invalid_argument("JointRegistration::update: one noise scale per measurement");
+  if (measurements.empty()) return;
+  const std::string& name = measurements.front()->object;
+  for (const Measurement* measurement : measurements) {
+    if (measurement->object != name) throw std::logic_error("JointRegistration::update: measurements of several objects");
   }
-  Vector3d whitened = z - object.mean - c * offsets_mean_;  // ν, then L⁻¹ ν
-  s_factor.matrixL().solveInPlace(whitened);
-  Matrix3X v = sigma_c.transpose();
-  s_factor.matrixL().solveInPlace(v);
-  offsets_mean_.noalias() += v.transpose() * whitened;
-  offsets_covariance_.selfadjointView<Eigen::Lower>().rankUpdate(v.transpose(), -1.0);
-  offsets_covariance_.triangularView<Eigen::StrictlyUpper>() = offsets_covariance_.transpose();
-  // The object's own part, given β: z − C β = a_i + e.
-  const Eigen::LLT<Matrix3d> t_factor(t);
-  if (t_factor.info() != Eigen::Success) throw std::runtime_error("registration: P + R not positive definite");
-  const Matrix3d gain = t_factor.solve(object.covariance).transpose();  // P_i T⁻¹ (P_i, T symmetric)
-  object.mean += gain * (z - object.mean);
-  object.offsets -= gain.lazyProduct(c);
-  object.covariance = symmetrised(object.covariance - gain * object.covariance);
+  if (!has_object(name)) throw std::logic_error("JointRegistration::update: unknown object");
+  std::vector<const ViewBlocks*> views;  // first: β has its final size before any term is formed
+  for (const Measurement* measurement : measurements) views.push_back(add_view(measurement->view));
+  ObjectState& object = objects_.find(name)->second;
+  const auto conditional_term = [&object]() {
+    const Eigen::LLT<Matrix3d> factor(object.covariance);
+    if (factor.info() != Eigen::Success) throw std::runtime_error("registration: a position's covariance is not positive definite");
+    const Matrix3d inverse_factor = factor.matrixL().solve(Matrix3d::Identity());  // L_P⁻¹
+    return ConditionalTerm{(inverse_factor.lazyProduct(object.offsets)).transpose(), inverse_factor * object.mean};
+  };
+  const ConditionalTerm before = conditional_term();
+  Eigen::MatrixXd& information = offsets_information_;
+  Eigen::VectorXd& information_vector = offsets_information_vector_;
+  for (std::size_t k = 0; k < measurements.size(); ++k) {
+    const Measurement& measurement = *measurements[k];
+    const Matrix3d noise = noise_scales[k] * measurement.position.covariance();  // R_k
+    const Vector3d& z = measurement.position.mean();
+    const Matrix36 h = offset_jacobian(measurement.position.covariance());
+    const Eigen::LLT<Matrix3d> noise_factor(noise);
+    if (noise_factor.info() != Eigen::Success) throw std::runtime_error("registration: a measurement's covariance is not positive definite");
+    // The view's own term: G_kᵀ R_k⁻¹ G_k and G_kᵀ R_k⁻¹ z_k, on its blocks only (lower triangle of M).
+    if (views[k] != nullptr) {
+      for (const OffsetBlock& row_block : views[k]->blocks) {
+        const Eigen::MatrixXd g_row = h * row_block.basis;
+        const Eigen::MatrixXd whitened_row = noise_factor.solve(g_row);  // R⁻¹ G
+        information_vector.segment(row_block.start, g_row.cols()).noalias() += whitened_row.transpose() * z;
+        for (const OffsetBlock& column_block : views[k]->blocks) {
+          if (column_block.start > row_block.start) continue;
+          information.block(row_block.start, column_block.start, g_row.cols(), column_block.basis.cols()).noalias() +=
+              whitened_row.transpose() * (h * column_block.basis);
+        }
+      }
+    }
+    // a_i given β: z_k − (B_i + G_k) β = a_i + e_k.
+    const Matrix3X c = measurement_offsets(object, views[k], h);
+    const Eigen::LLT<Matrix3d> t_factor(symmetrised(object.covariance + noise));  // T = P_i + R_k
+    if (t_factor.info() != Eigen::Success) throw std::runtime_error("registration: P + R not positive definite");
+    const Matrix3d gain = t_factor.solve(object.covariance).transpose();  // P_i T⁻¹ (P_i, T symmetric)
+    object.mean += gain * (z - object.mean);
+    object.offsets -= gain.lazyProduct(c);
+    object.spread_version = 0;
+    object.covariance = symmetrised(object.covariance - gain * object.covariance);
+  }
+  // β: the conditional's term before, less the term after.
+  const ConditionalTerm after = conditional_term();
+  add_rank3_difference(information, before.u_transposed, after.u_transposed);
+  information_vector.noalias() -= before.u_transposed * before.w;
+  information_vector.noalias() += after.u_transposed * after.w;
+  stale_ = true;
+  ++version_;
+}
+
+void JointRegistration::refresh() const {
+  if (!stale_) return;
+  stale_ = false;
+  if (offsets_information_vector_.size() == 0) {
+    offsets_mean_.resize(0);
+    return;
+  }
+  offsets_factor_.compute(offsets_information_);
+  if (offsets_factor_.info() != Eigen::Success) {
+    throw std::runtime_error("registration: the offsets' information is not positive definite");
+  }
+  offsets_mean_ = offsets_factor_.solve(offsets_information_vector_);
+}
+
+Matrix3d JointRegistration::quadratic_form(const Matrix3X& rows) const {
+  refresh();
+  if (rows.cols() == 0) return Matrix3d::Zero();
+  return inverse_quadratic_form<3>(offsets_factor_.matrixLLT(), rows);
 }
 
 Gaussian3 JointRegistration::corrected(const Measurement& measurement, double noise_scale) const {
@@ -183,14 +269,20 @@ Gaussian3 JointRegistration::corrected(const Measurement& measurement, double no
 Gaussian3 JointRegistration::position(std::string_view object) const {
   const ObjectState& state = object_state(object);
   // p_i = a_i + B_i β: mean â_i + B_i β̂, covariance P_i + B_i Σ_β B_iᵀ.
+  refresh();
+  if (state.spread_version != version_) {
+    state.offsets_spread = quadratic_form(state.offsets);
+    state.spread_version = version_;
+  }
   return Gaussian3::from_covariance(state.mean + state.offsets * offsets_mean_,
-                                    symmetrised(state.covariance + quadratic_form(state.offsets, offsets_covariance_)));
+                                    symmetrised(state.covariance + state.offsets_spread));
 }
 
 Eigen::Matrix<double, 6, 1> JointRegistration::offset(std::string_view view) const {
   const ViewBlocks* blocks = view_blocks(view);
   Eigen::Matrix<double, 6, 1> result = Eigen::Matrix<double, 6, 1>::Zero();
   if (blocks == nullptr) return result;
+  refresh();
   for (const OffsetBlock& block : blocks->blocks) {
     result.noalias() += block.basis * offsets_mean_.segment(block.start, block.basis.cols());
   }
@@ -200,13 +292,10 @@ Eigen::Matrix<double, 6, 1> JointRegistration::offset(std::string_view view) con
 Eigen::Matrix<double, 6, 6> JointRegistration::offset_covariance(std::string_view view) const {
   const ViewBlocks* blocks = view_blocks(view);
   if (blocks == nullptr) return prior_covariance_;
-  if (blocks->blocks.size() == 1) {
-    const OffsetBlock& block = blocks->blocks.front();
-    const Eigen::Index size = block.basis.cols();
-    return block.basis * offsets_covariance_.block(block.start, block.start, size, size) * block.basis.transpose();
-  }
-  const Eigen::MatrixXd selector = offset_selector(*blocks);
-  return selector * offsets_covariance_ * selector.transpose();
+  refresh();
+  if (offsets_information_vector_.size() == 0) return Eigen::Matrix<double, 6, 6>::Zero();
+  const Eigen::Matrix<double, 6, Eigen::Dynamic> selector = offset_selector(*blocks);
+  return inverse_quadratic_form<6>(offsets_factor_.matrixLLT(), selector);
 }
 
 }  // namespace stgf

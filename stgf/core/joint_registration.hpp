@@ -22,27 +22,41 @@
 // multi-view update, multi_view_update.hpp).
 //
 // Representation. Objects are correlated with each other only through the offsets: the Gaussian is
-// kept, exactly, as
-//     β ~ N(β̂, Σ_β),     p_i = a_i + B_i β,     a_i ~ N(â_i, P_i) independent of β and of each other,
+// kept, exactly, as the marginal of the offsets, in information form, and each position given them:
+//     β ~ N(β̂, Σ_β),  Σ_β = M⁻¹,  β̂ = M⁻¹ m,     p_i = a_i + B_i β,  a_i ~ N(â_i, P_i) independent,
 // with B_i (3 × 6n) how object i's position depends on the offsets. (Cov(p_i, p_j) = B_i Σ_β B_jᵀ and
 // Cov(p_i, β) = B_i Σ_β are what the dense (3m + 6n)² covariance held.) Each operation keeps this form:
-//   start       a_i = z − e:  â_i = z, P_i = R, B_i = −H_u E_u     (E_u picks β_u out of β)
+//   start       a_i = z − e:  â_i = z, P_i = R, B_i = −G_u (G_u = H_u E_u, E_u picks β_u out of β);
+//               the first measurement alone says nothing of β
 //   predict     â_i += d, P_i += Q
-//   update      z = a_i + C β + e,  C = B_i + H_u E_u,  T = P_i + R:
-//                 β:    S = C Σ_β Cᵀ + T,  β̂ += Σ_β Cᵀ S⁻¹ ν,  Σ_β −= Σ_β Cᵀ S⁻¹ C Σ_β,  ν = z − â_i − C β̂
-//                 a_i given β (the measurement z − C β of a_i, noise R):
-//                       â_i += P_i T⁻¹ (z − â_i),  B_i −= P_i T⁻¹ C,  P_i −= P_i T⁻¹ P_i
-//               (every other a_j is independent of z and keeps its own; their positions move with β̂)
+//   update      object i's measurements z_k = p_i + G_k β + e_k at one time (noise R_k = μ_k R):
+//                 a_i given β, each in turn (T = P_i + R_k, K = P_i T⁻¹):
+//                   â_i += K (z_k − â_i),  B_i −= K (B_i + G_k),  P_i −= K P_i
+//                 β: the joint information of (p_i, β) is the conditional's,
+//                   [P⁻¹, −P⁻¹B; −BᵀP⁻¹, BᵀP⁻¹B] (+ M on β), plus the measurements'; marginalising p_i
+//                   and writing the result with the new conditional (â', B', P'):
+//                   M += Σ_k G_kᵀ R_k⁻¹ G_k + BᵀP⁻¹B − B'ᵀP'⁻¹B',
+//                   m += Σ_k G_kᵀ R_k⁻¹ z_k − BᵀP⁻¹â + B'ᵀP'⁻¹â'
+//                 (every other a_j is independent of z and keeps its own; their positions move with β̂)
 //   remove      drop a_i and B_i: the exact marginal of the rest
 //   release     view u's translation jumps by w ~ N(0, W) from now on: w joins β as a block of its own
-//               (zero mean, covariance W, independent of everything), view u's measurements depend on
-//               t_u + w, and no position depends on it — the dense filter's Σ_tt += W, exactly.
+//               (information W⁻¹ on W's range, zero mean, independent of everything), view u's
+//               measurements depend on t_u + w, and no position depends on it — the dense filter's
+//               Σ_tt += W, exactly.
+// What is read (a position, an innovation, an offset) needs β̂ and Σ_β: M = L Lᵀ is factored once
+// after it changes, and B Σ_β Bᵀ = ‖L⁻¹Bᵀ‖².
 //
-// Cost, with n the scene's views and m its objects: an update costs O(n²) (the offsets' covariance),
-// independent of m and of the other objects; a position O(n²); predict O(1); memory O(n² + m n).
-// (The dense joint covariance cost O((3m + 6n)²) per update and memory.)
+// Cost, with n the scene's views, c ≤ 6n the offsets' dimension, m the scene's objects and k the
+// measurements of an object at one time: an update costs O(k c) for the conditional and two rank-3
+// updates of M, O(c²), whatever k and m; reading a position or an innovation O(c²); refactoring M
+// O(c³), once per event that changed it; predict O(1); memory O(c² + m c). So one event of m objects
+// each seen by k views costs O(m (k c + c²) + c³): linear in the views that see an object, and
+// independent of how many objects each view sees. (Updating Σ_β itself, measurement by measurement,
+// cost O(c²) per measurement, k times more; the dense joint covariance O((3m + c)²).)
 
+#include <cstdint>
 #include <map>
+#include <span>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -79,7 +93,10 @@ class JointRegistration {
     Matrix3d covariance;
   };
   Innovation innovation(const Measurement& measurement, double noise_scale = 1.0) const;
-  // The Kalman update with one measurement of a known object; adds the view if new.
+  // The Kalman update with measurements of one known object (any views, at one time: nothing is
+  // predicted between them), each with its noise scale; adds the views that are new. Exactly the
+  // updates with each in turn, in any order.
+  void update(std::span<const Measurement* const> measurements, std::span<const double> noise_scales);
   void update(const Measurement& measurement, double noise_scale = 1.0);
 
   Gaussian3 position(std::string_view object) const;  // the marginal of p_i
@@ -97,6 +114,9 @@ class JointRegistration {
     Vector3d mean;
     Matrix3d covariance;
     Eigen::Matrix<double, 3, Eigen::Dynamic> offsets;  // B_i (3 × 6n)
+    // B_i Σ_β B_iᵀ, for the M of version `spread_version` (0: not computed since B_i changed).
+    mutable Matrix3d offsets_spread = Matrix3d::Zero();
+    mutable std::uint64_t spread_version = 0;
   };
   // A block of β and how its coordinates move a view's offset (t, δ): by `basis` (6 × its size).
   struct OffsetBlock {
@@ -121,13 +141,22 @@ class JointRegistration {
                                                                const Eigen::Matrix<double, 3, 6>& h) const;
   // E_u with view u's offset t_u + Σ jumps, δ_u = E_u β (6 × size of β).
   Eigen::MatrixXd offset_selector(const ViewBlocks& view) const;
+  // M Σ_β Mᵀ for 3 rows M (Σ_β through the factor of M).
+  Matrix3d quadratic_form(const Eigen::Matrix<double, 3, Eigen::Dynamic>& rows) const;
+  // Factors M and solves for β̂, if M changed since.
+  void refresh() const;
 
   RegistrationPrior prior_;
   Eigen::Matrix<double, 6, 6> prior_covariance_;
   std::map<std::string, ObjectState, std::less<>> objects_;
   std::map<std::string, ViewBlocks, std::less<>> views_;
-  Eigen::VectorXd offsets_mean_;        // β̂
-  Eigen::MatrixXd offsets_covariance_;  // Σ_β
+  Eigen::MatrixXd offsets_information_;         // M (its lower triangle)
+  Eigen::VectorXd offsets_information_vector_;  // m
+  // Read through refresh(): the factor L of M and β̂, for the M they were made from.
+  mutable Eigen::LLT<Eigen::MatrixXd, Eigen::Lower> offsets_factor_;
+  mutable Eigen::VectorXd offsets_mean_;
+  mutable bool stale_ = false;
+  std::uint64_t version_ = 1;  // changes with M
 };
 
 }  // namespace stgf

@@ -269,9 +269,19 @@ double SceneFilter::noise_scale(std::string_view view) const {
 }
 
 void SceneFilter::process_joint(Event& event) {
+  // Three passes over the event's objects, so that every check is against the state before the
+  // event and every estimate includes all of it (through the offsets, one object's measurements move
+  // the others' positions): each object is predicted and its measurements checked; then each is
+  // updated with those that passed; then each reports its fused position.
   const double time = event.time;
   const ProcessNoiseScale scale = state_.process_noise_scale;  // λ from the earlier events
   ViewNoiseScales& view_noise = state_.view_noise;
+  struct Checked {
+    std::size_t first, end;  // its rows
+    std::optional<TrackPrediction> prediction;
+    MeasurementGate::Decision decision;
+  };
+  std::vector<Checked> checked;
   for (std::size_t first = 0; first < event.rows.size();) {
     const std::string& object = event.rows[first].measurement.object;
     std::size_t end = first;
@@ -308,9 +318,8 @@ void SceneFilter::process_joint(Event& event) {
         }
       }
     }
-    const MeasurementGate::Decision decision = gate_.enabled()
-                                                   ? gate_.decide(distances, alone, track.gated_events())
-                                                   : MeasurementGate::pass_all(rows.size());
+    MeasurementGate::Decision decision = gate_.enabled() ? gate_.decide(distances, alone, track.gated_events())
+                                                         : MeasurementGate::pass_all(rows.size());
     for (std::size_t k = 0; k < rows.size() && decision.checked; ++k) {
       view_noise.count(rows[k].measurement.view, decision.passes[k]);
     }
@@ -322,44 +331,53 @@ void SceneFilter::process_joint(Event& event) {
       ++state_.gate_restarts;
       prediction.reset();
     }
-    bool any_passed = false;
+    // The first fused measurement of a frame teaches the scale of Q, with its innovation against the
+    // prediction.
+    if (!track.empty() && !track.has_frame() && track.history().size() >= 2 && options_.adapt_process_noise) {
+      const auto passed = std::find(decision.passes.begin(), decision.passes.end(), true);
+      if (passed != decision.passes.end()) {
+        const JointRegistration::Innovation& innovation = innovations[static_cast<std::size_t>(passed - decision.passes.begin())];
+        state_.process_noise_scale.add(innovation.value, innovation.covariance - motion->covariance, motion->process_noise);
+      }
+    }
+    checked.push_back(Checked{first, end, std::move(prediction), std::move(decision)});
+    first = end;
+  }
+  std::vector<const Measurement*> fused;
+  std::vector<double> fused_scales;
+  for (const Checked& object : checked) {
+    const std::span<Row> rows(event.rows.data() + object.first, object.end - object.first);
+    ObjectTrack& track = state_.tracks[key_of(rows.front().measurement)];
+    const MeasurementGate::Decision& decision = object.decision;
+    fused.clear();
+    fused_scales.clear();
     if (track.empty()) {
       // A diffuse start from the anchor, then the measurements that agree with it.
       const Measurement& anchor = rows[decision.anchor].measurement;
-      state_.joint.remove_object(object);
+      state_.joint.remove_object(anchor.object);
       state_.joint.add_object(anchor, noise_scale(anchor.view));
-      for (std::size_t k = 0; k < rows.size(); ++k) {
-        if (decision.passes[k] && k != decision.anchor) state_.joint.update(rows[k].measurement, noise_scale(rows[k].measurement.view));
-      }
-      any_passed = true;
-    } else {
-      bool taught_process_noise = false;
-      for (std::size_t k = 0; k < rows.size(); ++k) {
-        if (!decision.passes[k]) continue;
-        // The first fused measurement of a frame teaches the scale of Q, with its innovation against
-        // the prediction.
-        if (!taught_process_noise && !track.has_frame() && track.history().size() >= 2 &&
-            options_.adapt_process_noise) {
-          state_.process_noise_scale.add(innovations[k].value, innovations[k].covariance - motion->covariance,
-                                         motion->process_noise);
-          taught_process_noise = true;
-        }
-        state_.joint.update(rows[k].measurement, noise_scale(rows[k].measurement.view));
-        any_passed = true;
-      }
     }
-    if (any_passed) {
+    for (std::size_t k = 0; k < rows.size(); ++k) {
+      if (!decision.passes[k] || (track.empty() && k == decision.anchor)) continue;
+      fused.push_back(&rows[k].measurement);
+      fused_scales.push_back(noise_scale(rows[k].measurement.view));
+    }
+    state_.joint.update(fused, fused_scales);
+    if (track.empty() || !fused.empty()) {
       track.reset_gated_events();
     } else {
       track.count_gated_event();
     }
+  }
+  for (const Checked& object : checked) {
+    const std::span<Row> rows(event.rows.data() + object.first, object.end - object.first);
+    ObjectTrack& track = state_.tracks[key_of(rows.front().measurement)];
     std::vector<bool> gated(rows.size());
-    for (std::size_t k = 0; k < rows.size(); ++k) gated[k] = !decision.passes[k];
-    const Gaussian3 fused = state_.joint.position(object);
+    for (std::size_t k = 0; k < rows.size(); ++k) gated[k] = !object.decision.passes[k];
+    const Gaussian3 estimate = state_.joint.position(rows.front().measurement.object);
     if (!track.has_frame()) track.open_frame(time);
-    track.update(time, fused);
-    report(event, first, end, fused, prediction, gated);
-    first = end;
+    track.update(time, estimate);
+    report(event, object.first, object.end, estimate, object.prediction, gated);
   }
 }
 

@@ -30,7 +30,11 @@
 //      the measurements alone); the fused estimate is the track's new state and each measurement's
 //      estimate. With a registration prior, kPerObject estimates every position and every view's
 //      offset jointly (joint_registration.hpp): each measurement updates both, so offsets are learnt
-//      from views that never measure at the same time. kPerView corrects the measurements by the
+//      from views that never measure at the same time. Since through the offsets one object's
+//      measurements move every position, this is done in three passes over the event's objects:
+//      each is predicted and its measurements checked against the state before the event; each is
+//      updated with those that passed (one update of the joint Gaussian per object); each reports
+//      its position given all of the event. kPerView corrects the measurements by the
 //      offsets of view_registration.hpp, combines them into one, and learns the offsets from the
 //      event's cross-view differences afterwards; without a prior, both are the multi-view update;
 //   4. per object whose frame opens here with a prediction from two or more history positions, the

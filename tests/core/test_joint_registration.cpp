@@ -2,7 +2,8 @@
 // JointRegistration keeps the joint Gaussian over positions and offsets in factored form
 // (p_i = a_i + B_i β, joint_registration.hpp). It must be exactly the dense joint Kalman filter over
 // s = (p_1 … p_m, β_1 … β_n) written out below: the same positions, offsets, covariances and
-// innovations after any sequence of starts, predictions, updates (noise scaled or not), views
+// innovations after any sequence of starts, predictions, updates (noise scaled or not; one
+// measurement at a time or all of an object's at once), views
 // appearing late, offsets released (full rank and rank one) and objects removed — including a prior
 // that is singular on z, whose zero direction the factored form leaves out.
 
@@ -166,15 +167,29 @@ void run_scenario(const RegistrationPrior& prior, std::uint64_t seed) {
         factored.predict(object, d, q);
         dense.predict(object, d, q);
       }
+      // Half the time all of the object's measurements in one update, else one by one.
+      const bool together = uniform(random) < 0.5;
+      std::vector<Measurement> batch;
+      std::vector<double> scales;
+      batch.reserve(seen.size());
       for (const std::string& view : seen) {
-        const Measurement m = measurement(object, view);
-        const double scale = uniform(random) < 0.3 ? 4.0 : 1.0;
+        const Measurement& m = batch.emplace_back(measurement(object, view));
+        const double scale = scales.emplace_back(uniform(random) < 0.3 ? 4.0 : 1.0);
+        if (together) continue;
         const JointRegistration::Innovation expected = dense.innovation(m, scale);
         const JointRegistration::Innovation actual = factored.innovation(m, scale);
         EXPECT_LE((actual.value - expected.value).norm(), 1e-9);
         EXPECT_LE((actual.covariance - expected.covariance).norm(), 1e-9);
         factored.update(m, scale);
         dense.update(m, scale);
+      }
+      if (together) {
+        std::vector<const Measurement*> pointers;
+        for (std::size_t k = 0; k < batch.size(); ++k) {
+          pointers.push_back(&batch[k]);
+          dense.update(batch[k], scales[k]);
+        }
+        factored.update(pointers, scales);
       }
     }
     expect_same_state(factored, dense, "after step " + std::to_string(step));
@@ -217,6 +232,9 @@ TEST(JointRegistration, UnknownObjectsAreLogicErrors) {
   EXPECT_THROW(registration.position("o"), std::logic_error);
   registration.add_object(m);
   EXPECT_THROW(registration.add_object(m), std::logic_error);
+  const Measurement other{"s", 0.0, "v", "p", m.position, std::nullopt};
+  const std::vector<const Measurement*> two_objects = {&m, &other};
+  EXPECT_THROW(registration.update(two_objects, std::vector<double>{1.0, 1.0}), std::logic_error);
 }
 
 }  // namespace
