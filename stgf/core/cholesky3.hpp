@@ -56,6 +56,12 @@ class Cholesky3 {
     return inverse;
   }
 
+  // det A = (l₀₀ l₁₁ l₂₂)². Requires ok().
+  double determinant() const {
+    const double product = l00_ * l11_ * l22_;
+    return product * product;
+  }
+
   Eigen::Matrix3d matrix_l() const {
     Eigen::Matrix3d l;
     l << l00_, 0, 0, l10_, l11_, 0, l20_, l21_, l22_;

@@ -36,6 +36,15 @@ std::optional<std::string> covariance_problem(const Matrix3d& covariance) {
   if ((covariance - covariance.transpose()).cwiseAbs().maxCoeff() > kSymmetryTolerance * scale) {
     return "covariance is not symmetric";
   }
+  // A sufficient test first, without eigenvalues: for C positive definite, λ_max ≤ tr C and
+  // λ_min ≥ det C / (tr C / 2)² (the other two eigenvalues' product is at most ((tr C) / 2)²), so
+  // tr³ ≤ 4 · 1e12 · det bounds the condition number. Only what it cannot vouch for is examined below.
+  {
+    const Matrix3d symmetric = symmetrised(covariance);
+    const Cholesky3 cholesky(symmetric);
+    const double trace = symmetric.trace();
+    if (cholesky.ok() && trace * trace * trace <= 4.0 * kMaxConditionNumber * cholesky.determinant()) return std::nullopt;
+  }
   Eigen::SelfAdjointEigenSolver<Matrix3d> eigen;
   eigen.computeDirect(symmetrised(covariance), Eigen::EigenvaluesOnly);
   const double smallest = eigen.eigenvalues()(0);

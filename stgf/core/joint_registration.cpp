@@ -14,6 +14,8 @@ using Matrix3X = Eigen::Matrix<double, 3, Eigen::Dynamic>;
 namespace {
 
 using MatrixX3 = Eigen::Matrix<double, Eigen::Dynamic, 3>;
+// A measurement's dependence on one offset block (at most 6 coordinates), on the stack.
+using BlockColumns = Eigen::Matrix<double, 3, Eigen::Dynamic, Eigen::ColMajor, 3, 6>;
 
 // The object's conditional term of the joint information, BᵀP⁻¹B and BᵀP⁻¹â, as Uᵀ U and Uᵀ w with
 // Uᵀ = (L_P⁻¹ B)ᵀ (c × 3) and w = L_P⁻¹ â (P = L_P L_Pᵀ).
@@ -208,8 +210,8 @@ void JointRegistration::update(std::span<const Measurement* const> measurements,
     // The view's own term: G_kᵀ R_k⁻¹ G_k and G_kᵀ R_k⁻¹ z_k, on its blocks only (lower triangle of M).
     if (views[k] != nullptr) {
       for (const OffsetBlock& row_block : views[k]->blocks) {
-        const Eigen::MatrixXd g_row = h * row_block.basis;
-        const Eigen::MatrixXd whitened_row = noise_factor.solve(g_row);  // R⁻¹ G
+        const BlockColumns g_row = h * row_block.basis;
+        const BlockColumns whitened_row = noise_factor.solve(g_row);  // R⁻¹ G
         information_vector.segment(row_block.start, g_row.cols()).noalias() += whitened_row.transpose() * z;
         for (const OffsetBlock& column_block : views[k]->blocks) {
           if (column_block.start > row_block.start) continue;

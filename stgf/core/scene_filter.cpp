@@ -70,12 +70,18 @@ void SceneFilter::receive(std::span<const Measurement* const> measurements, std:
   }
   std::stable_sort(order.begin(), order.end(),
                    [&](std::size_t a, std::size_t b) { return measurements[a]->time < measurements[b]->time; });
+  // Each event's rows in (object, view) order: the indices are sorted, and each row copied once.
   std::vector<Event> events;
-  for (std::size_t k : order) {
-    if (events.empty() || measurements[k]->time - events.back().time > kSameStepTolerance) {
-      events.push_back(Event{measurements[k]->time, {}, false});
-    }
-    events.back().rows.push_back(Row{ids[k], *measurements[k], false});
+  for (std::size_t first = 0; first < order.size();) {
+    const double time = measurements[order[first]]->time;
+    std::size_t end = first;
+    while (end < order.size() && measurements[order[end]]->time - time <= kSameStepTolerance) ++end;
+    std::stable_sort(order.begin() + static_cast<std::ptrdiff_t>(first), order.begin() + static_cast<std::ptrdiff_t>(end),
+                     [&](std::size_t a, std::size_t b) { return row_before(*measurements[a], *measurements[b]); });
+    Event& event = events.emplace_back(Event{time, {}, false});
+    event.rows.reserve(end - first);
+    for (std::size_t k = first; k < end; ++k) event.rows.push_back(Row{ids[order[k]], *measurements[order[k]], false});
+    first = end;
   }
   // A (view, object) twice at one time, within the call or with what the filter already holds.
   const auto same_time_event = [&](const std::deque<Event>& list, double time) -> const Event* {
@@ -87,12 +93,16 @@ void SceneFilter::receive(std::span<const Measurement* const> measurements, std:
   for (const Event& event : events) {
     std::vector<const Measurement*> at_time;
     for (const Row& row : event.rows) at_time.push_back(&row.measurement);
+    bool held_rows = false;
     for (const std::deque<Event>* list : {&log_, &queue_}) {
       if (const Event* held = same_time_event(*list, event.time)) {
         for (const Row& row : held->rows) at_time.push_back(&row.measurement);
+        held_rows = true;
       }
     }
-    std::sort(at_time.begin(), at_time.end(), [](const Measurement* a, const Measurement* b) { return row_before(*a, *b); });
+    if (held_rows) {
+      std::sort(at_time.begin(), at_time.end(), [](const Measurement* a, const Measurement* b) { return row_before(*a, *b); });
+    }
     for (std::size_t k = 1; k < at_time.size(); ++k) {
       if (at_time[k]->object == at_time[k - 1]->object && at_time[k]->view == at_time[k - 1]->view) {
         throw std::invalid_argument("view '" + at_time[k]->view + "' measured object '" + at_time[k]->object +
@@ -119,15 +129,17 @@ void SceneFilter::insert(Event event) {
   if (event.time <= latest_time_ + kSameStepTolerance) rewind_to(event.time);
   auto position = queue_.begin();
   while (position != queue_.end() && position->time < event.time - kSameStepTolerance) ++position;
+  // `event`'s rows are in (object, view) order; those of two events are merged into it.
   if (position != queue_.end() && std::abs(position->time - event.time) <= kSameStepTolerance) {
     position->time = std::min(position->time, event.time);
+    const auto middle = static_cast<std::ptrdiff_t>(position->rows.size());
     for (Row& row : event.rows) position->rows.push_back(std::move(row));
+    std::inplace_merge(position->rows.begin(), position->rows.begin() + middle, position->rows.end(),
+                       [](const Row& a, const Row& b) { return row_before(a.measurement, b.measurement); });
     position->started = false;
   } else {
-    position = queue_.insert(position, std::move(event));
+    queue_.insert(position, std::move(event));
   }
-  std::stable_sort(position->rows.begin(), position->rows.end(),
-                   [](const Row& a, const Row& b) { return row_before(a.measurement, b.measurement); });
 }
 
 void SceneFilter::rewind_to(double time) {
@@ -167,8 +179,12 @@ void SceneFilter::start(Event& event) {
   if (options_.lag_window > 0.0 && event.time - checkpoints_.back().time >= kCheckpointSpacing) {
     checkpoints_.push_back({event.time, state_});
   }
-  for (const Row& row : event.rows) {
-    ObjectTrack& track = state_.tracks[key_of(row.measurement)];
+  for (std::size_t k = 0; k < event.rows.size(); ++k) {
+    const Measurement& measurement = event.rows[k].measurement;
+    if (options_.tracks == TrackMode::kPerObject && k > 0 && event.rows[k - 1].measurement.object == measurement.object) {
+      continue;  // the same track as the row before
+    }
+    ObjectTrack& track = state_.tracks[key_of(measurement)];
     if (!track.empty() && event.time - track.state().time > predictor_.prediction_horizon()) {
       track.clear();  // unseen for too long: starts again, like an object never seen
       ++state_.restarted_tracks;
@@ -180,8 +196,12 @@ void SceneFilter::start(Event& event) {
 
 bool SceneFilter::request_forecasts(const Event& event) {
   std::vector<std::string> groups;  // track groups with a track that needs a forecast
-  for (const Row& row : event.rows) {
-    const TrackKey key = key_of(row.measurement);
+  for (std::size_t k = 0; k < event.rows.size(); ++k) {
+    const Measurement& measurement = event.rows[k].measurement;
+    if (options_.tracks == TrackMode::kPerObject && k > 0 && event.rows[k - 1].measurement.object == measurement.object) {
+      continue;  // the same track as the row before
+    }
+    const TrackKey key = key_of(measurement);
     const ObjectTrack& track = state_.tracks.at(key);
     if (track.needs_forecast() &&
         std::find(groups.begin(), groups.end(), key.first) == groups.end()) {
@@ -278,6 +298,7 @@ void SceneFilter::process_joint(Event& event) {
   ViewNoiseScales& view_noise = state_.view_noise;
   struct Checked {
     std::size_t first, end;  // its rows
+    ObjectTrack* track;
     std::optional<TrackPrediction> prediction;
     MeasurementGate::Decision decision;
   };
@@ -340,14 +361,14 @@ void SceneFilter::process_joint(Event& event) {
         state_.process_noise_scale.add(innovation.value, innovation.covariance - motion->covariance, motion->process_noise);
       }
     }
-    checked.push_back(Checked{first, end, std::move(prediction), std::move(decision)});
+    checked.push_back(Checked{first, end, &track, std::move(prediction), std::move(decision)});
     first = end;
   }
   std::vector<const Measurement*> fused;
   std::vector<double> fused_scales;
   for (const Checked& object : checked) {
     const std::span<Row> rows(event.rows.data() + object.first, object.end - object.first);
-    ObjectTrack& track = state_.tracks[key_of(rows.front().measurement)];
+    ObjectTrack& track = *object.track;
     const MeasurementGate::Decision& decision = object.decision;
     fused.clear();
     fused_scales.clear();
@@ -371,7 +392,7 @@ void SceneFilter::process_joint(Event& event) {
   }
   for (const Checked& object : checked) {
     const std::span<Row> rows(event.rows.data() + object.first, object.end - object.first);
-    ObjectTrack& track = state_.tracks[key_of(rows.front().measurement)];
+    ObjectTrack& track = *object.track;
     std::vector<bool> gated(rows.size());
     for (std::size_t k = 0; k < rows.size(); ++k) gated[k] = !object.decision.passes[k];
     const Gaussian3 estimate = state_.joint.position(rows.front().measurement.object);
