@@ -11,6 +11,7 @@ models=build/reproduce/models
 out=build/generalization
 mkdir -p "$out/mpl-third"
 printf 'ours:\n  adapt_process_noise: false\n' > "$out/fixed-q.yaml"
+printf 'ours:\n  registration: false\n' > "$out/registration-off.yaml"
 
 build/stgf dataset ethucy --out "$out/ethucy" --seed 1 2>/dev/null
 # mpl frames are 1/7 s apart: keep every third frame of each scene (t·7 a multiple of 3).
@@ -39,7 +40,8 @@ done
   echo
   echo "Produced by \`scripts/generalization.sh\` (seed 1) with the models of \`scripts/results.sh\`."
   echo "\`ours\` adapts Q to the data from its innovations (per scene and world axis, Q only grows;"
-  echo "\`stgf/core/process_noise_scale.hpp\`); \`ours-fixed-q\` is the same filter with Q as calibrated."
+  echo "\`stgf/core/process_noise_scale.hpp\`); \`ours-fixed-q\` is the same filter with Q as calibrated,"
+  echo "\`ours-registration-off\` the same filter trusting every R as stated (no offsets estimated)."
   echo "Scored from step 2 on, as in docs/results.md."
 } > "$out/generalization.md"
 
@@ -51,12 +53,15 @@ run_case() {  # title, folder, model
   build/stgf run --method ours --model "$model" --measurements "$m" --config "$out/fixed-q.yaml" \
     --out "$out/ours-fixed-q.csv" 2>/dev/null
   sed -i 's/,ours$/,ours-fixed-q/' "$out/ours-fixed-q.csv"
+  build/stgf run --method ours --model "$model" --measurements "$m" --config "$out/registration-off.yaml" \
+    --out "$out/ours-registration-off.csv" 2>/dev/null
+  sed -i 's/,ours$/,ours-registration-off/' "$out/ours-registration-off.csv"
   {
     echo
     echo "## $title"
     echo
     build/stgf eval --truth "$folder/truth.csv" --measurements "$m" --from-step 2 \
-      --estimates "$out/wls.csv" "$out/mmt.csv" "$out/ours.csv" "$out/ours-fixed-q.csv"
+      --estimates "$out/wls.csv" "$out/mmt.csv" "$out/ours.csv" "$out/ours-fixed-q.csv" "$out/ours-registration-off.csv"
   } >> "$out/generalization.md"
 }
 
@@ -76,6 +81,12 @@ cat >> "$out/generalization.md" <<'NOTES'
   another frame rate, another kind of object) the learned prediction adds little, and objects seen
   by one view only, which rest most on it, lose the most. Train Φ on data like yours
   (`stgf dataset` or your own benchmark folder, then `stgf train`).
+- On ETH/UCY the registration handling, with the prior a model brings from its own training
+  cameras, costs accuracy and honesty: with the mpl model `ours` is 34 % behind `wls` with a NEES
+  near 23, and 7 % behind with a NEES near 8 with registration off. There Φ from other data predicts
+  poorly, and the views' offsets, estimated jointly with every position, take up part of the
+  prediction errors. A prior estimated from the data at hand is what is missing; until then,
+  `registration: false` on views known to be well calibrated.
 - The same scenes at a lower frame rate (the mpl case) keep most of the gain: Φ learned from its
   training scenes at 1, 1/2 and 1/3 of their rate.
 - At 1 Hz every interval is longer than the mpl model's horizon (0.86 s, twice the longest
