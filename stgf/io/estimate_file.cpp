@@ -20,6 +20,13 @@ class EstimateRows {
 
   int scene_column() const { return keys_.scene; }
 
+  void start(const std::string& path, EstimateFile& file) const {
+    file.path = path;
+    file.rows.clear();
+    file.methods.clear();
+    file.lines.clear();
+  }
+
   void append(const CsvReader& reader, const CsvReader::Row& row, EstimateFile& file,
               std::vector<detail::RowIdentity>& identities) const {
     Estimate estimate{reader.text(row, keys_.scene), reader.time(row, keys_.time), reader.text(row, keys_.view),
@@ -43,24 +50,14 @@ class EstimateRows {
   int method_;
 };
 
-EstimateFile read_rows(CsvReader reader) {
-  const EstimateRows rows(reader);
-  EstimateFile file;
-  file.path = reader.path();
-  std::vector<detail::RowIdentity> identities;
-  CsvReader::Row row;
-  while (reader.next(row)) rows.append(reader, row, file, identities);
-  detail::check_no_duplicate_rows(file.path, std::move(identities),
-                                  [&](std::size_t k) { return rows.describe(file, k); });
-  return file;
-}
-
 }  // namespace
 
-EstimateFile read_estimates(const std::string& path) { return read_rows(CsvReader::open(path)); }
+EstimateFile read_estimates(const std::string& path) {
+  return detail::read_whole_file<EstimateFile, EstimateRows>(CsvReader::open(path));
+}
 
 EstimateFile parse_estimates(const std::string& path, std::string_view text) {
-  return read_rows(CsvReader::from_text(path, std::string(text)));
+  return detail::read_whole_file<EstimateFile, EstimateRows>(CsvReader::from_text(path, std::string(text)));
 }
 
 struct EstimateSceneReader::Impl {
@@ -82,10 +79,7 @@ EstimateSceneReader EstimateSceneReader::from_text(const std::string& path, std:
 }
 
 bool EstimateSceneReader::read(EstimateFile& scene) {
-  scene.path = impl_->scenes.path();
-  scene.rows.clear();
-  scene.methods.clear();
-  scene.lines.clear();
+  impl_->scenes.rows().start(impl_->scenes.path(), scene);
   return impl_->scenes.read_scene(scene);
 }
 

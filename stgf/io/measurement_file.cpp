@@ -71,24 +71,14 @@ class MeasurementRows {
   bool has_sensor_positions_ = false;
 };
 
-MeasurementFile read_rows(CsvReader reader) {
-  const MeasurementRows rows(reader);
-  MeasurementFile file;
-  rows.start(reader.path(), file);
-  std::vector<detail::RowIdentity> identities;
-  CsvReader::Row row;
-  while (reader.next(row)) rows.append(reader, row, file, identities);
-  detail::check_no_duplicate_rows(file.path, std::move(identities),
-                                  [&](std::size_t k) { return rows.describe(file, k); });
-  return file;
-}
-
 }  // namespace
 
-MeasurementFile read_measurements(const std::string& path) { return read_rows(CsvReader::open(path)); }
+MeasurementFile read_measurements(const std::string& path) {
+  return detail::read_whole_file<MeasurementFile, MeasurementRows>(CsvReader::open(path));
+}
 
 MeasurementFile parse_measurements(const std::string& path, std::string_view text) {
-  return read_rows(CsvReader::from_text(path, std::string(text)));
+  return detail::read_whole_file<MeasurementFile, MeasurementRows>(CsvReader::from_text(path, std::string(text)));
 }
 
 struct MeasurementSceneReader::Impl {

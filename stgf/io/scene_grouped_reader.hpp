@@ -1,13 +1,16 @@
 // SPDX-License-Identifier: Apache-2.0
 #pragma once
-// The loop that reads a file scene by scene (internal to the io layer), shared by the measurement,
-// truth and estimate readers: each scene's rows are parsed by the same code as the whole-file
-// reader's, their duplicates checked when the scene ends (a duplicate is always within one scene),
-// and a scene that comes back after another one is a SceneOrderError at its first returning row.
+// The loops that read a file whole or scene by scene (internal to the io layer), shared by the
+// measurement, truth and estimate readers. Scene by scene: each scene's rows are parsed by the same
+// code as the whole file's, their duplicates checked when the scene ends (a duplicate is always
+// within one scene), and a scene that comes back after another one is a SceneOrderError at its first
+// returning row.
 //
 // `Rows` is the file kind's row reader:
 //   explicit Rows(const CsvReader&)   checks the header (InputError at line 1)
 //   int scene_column() const
+//   void start(const std::string& path, File&) const   empties the file and gives it the path (and
+//                                     whatever else the header says of it)
 //   void append(const CsvReader&, const CsvReader::Row&, File&, std::vector<RowIdentity>&) const
 //                                     parses the row, appends it to the file and its identity
 //   std::string describe(const File&, std::size_t row) const   names a row in a duplicate message
@@ -21,6 +24,19 @@
 #include "stgf/io/scene_order.hpp"
 
 namespace stgf::detail {
+
+// The whole file: every row parsed by `Rows`, then the duplicates checked.
+template <class File, class Rows>
+File read_whole_file(CsvReader reader) {
+  const Rows rows(reader);
+  File file;
+  rows.start(reader.path(), file);
+  std::vector<RowIdentity> identities;
+  CsvReader::Row row;
+  while (reader.next(row)) rows.append(reader, row, file, identities);
+  check_no_duplicate_rows(file.path, std::move(identities), [&](std::size_t k) { return rows.describe(file, k); });
+  return file;
+}
 
 template <class File, class Rows>
 class SceneGroupedReader {

@@ -24,6 +24,12 @@ class TruthRows {
 
   int scene_column() const { return keys_.scene; }
 
+  void start(const std::string& path, TruthFile& file) const {
+    file.path = path;
+    file.rows.clear();
+    file.lines.clear();
+  }
+
   void append(const CsvReader& reader, const CsvReader::Row& row, TruthFile& file,
               std::vector<detail::RowIdentity>& identities) const {
     TruthPoint point{reader.text(row, keys_.scene), reader.time(row, keys_.time), reader.text(row, keys_.object),
@@ -43,18 +49,6 @@ class TruthRows {
   int position_[3];
 };
 
-TruthFile read_rows(CsvReader reader) {
-  const TruthRows rows(reader);
-  TruthFile file;
-  file.path = reader.path();
-  std::vector<detail::RowIdentity> identities;
-  CsvReader::Row row;
-  while (reader.next(row)) rows.append(reader, row, file, identities);
-  detail::check_no_duplicate_rows(file.path, std::move(identities),
-                                  [&](std::size_t k) { return rows.describe(file, k); });
-  return file;
-}
-
 std::string scene_object_key(std::string_view scene, std::string_view object) {
   std::string key(scene);
   key += '\n';
@@ -64,10 +58,12 @@ std::string scene_object_key(std::string_view scene, std::string_view object) {
 
 }  // namespace
 
-TruthFile read_truth(const std::string& path) { return read_rows(CsvReader::open(path)); }
+TruthFile read_truth(const std::string& path) {
+  return detail::read_whole_file<TruthFile, TruthRows>(CsvReader::open(path));
+}
 
 TruthFile parse_truth(const std::string& path, std::string_view text) {
-  return read_rows(CsvReader::from_text(path, std::string(text)));
+  return detail::read_whole_file<TruthFile, TruthRows>(CsvReader::from_text(path, std::string(text)));
 }
 
 struct TruthSceneReader::Impl {
@@ -89,9 +85,7 @@ TruthSceneReader TruthSceneReader::from_text(const std::string& path, std::strin
 }
 
 bool TruthSceneReader::read(TruthFile& scene) {
-  scene.path = impl_->scenes.path();
-  scene.rows.clear();
-  scene.lines.clear();
+  impl_->scenes.rows().start(impl_->scenes.path(), scene);
   return impl_->scenes.read_scene(scene);
 }
 
