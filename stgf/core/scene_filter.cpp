@@ -175,15 +175,18 @@ bool SceneFilter::advance() {
   return true;
 }
 
+bool SceneFilter::same_track_as_previous_row(const Event& event, std::size_t k) const {
+  return options_.tracks == TrackMode::kPerObject && k > 0 &&
+         event.rows[k - 1].measurement.object == event.rows[k].measurement.object;
+}
+
 void SceneFilter::start(Event& event) {
   if (options_.lag_window > 0.0 && event.time - checkpoints_.back().time >= kCheckpointSpacing) {
     checkpoints_.push_back({event.time, state_});
   }
   for (std::size_t k = 0; k < event.rows.size(); ++k) {
     const Measurement& measurement = event.rows[k].measurement;
-    if (options_.tracks == TrackMode::kPerObject && k > 0 && event.rows[k - 1].measurement.object == measurement.object) {
-      continue;  // the same track as the row before
-    }
+    if (same_track_as_previous_row(event, k)) continue;
     ObjectTrack& track = state_.tracks[key_of(measurement)];
     if (!track.empty() && event.time - track.state().time > predictor_.prediction_horizon()) {
       track.clear();  // unseen for too long: starts again, like an object never seen
@@ -198,9 +201,7 @@ bool SceneFilter::request_forecasts(const Event& event) {
   std::vector<std::string> groups;  // track groups with a track that needs a forecast
   for (std::size_t k = 0; k < event.rows.size(); ++k) {
     const Measurement& measurement = event.rows[k].measurement;
-    if (options_.tracks == TrackMode::kPerObject && k > 0 && event.rows[k - 1].measurement.object == measurement.object) {
-      continue;  // the same track as the row before
-    }
+    if (same_track_as_previous_row(event, k)) continue;
     const TrackKey key = key_of(measurement);
     const ObjectTrack& track = state_.tracks.at(key);
     if (track.needs_forecast() &&

@@ -184,6 +184,8 @@ class SceneFilter {
   };
 
   TrackKey key_of(const Measurement& measurement) const;
+  // kPerObject: row k of the event belongs to the same track as row k − 1 (rows are in object order).
+  bool same_track_as_previous_row(const Event& event, std::size_t k) const;
   void insert(Event event);
   void rewind_to(double time);
   void start(Event& event);
