@@ -92,7 +92,6 @@ void JointRegistration::add_block(ViewBlocks& view, const Eigen::Matrix<double, 
     basis.col(k) = directions * eigen.eigenvectors().col(kept[k]);
     offsets_information_(start + k, start + k) = 1.0 / values(kept[k]);
   }
-  stale_ = true;
   ++version_;
   for (auto& [name, object] : objects_) {
     object.offsets.conservativeResize(Eigen::NoChange, start + size);
@@ -235,13 +234,12 @@ void JointRegistration::update(std::span<const Measurement* const> measurements,
   add_rank3_difference(information, before.u_transposed, after.u_transposed);
   information_vector.noalias() -= before.u_transposed * before.w;
   information_vector.noalias() += after.u_transposed * after.w;
-  stale_ = true;
   ++version_;
 }
 
 void JointRegistration::refresh() const {
-  if (!stale_) return;
-  stale_ = false;
+  if (factored_version_ == version_) return;
+  factored_version_ = version_;
   if (offsets_information_vector_.size() == 0) {
     offsets_mean_.resize(0);
     return;

@@ -155,8 +155,8 @@ class JointRegistration {
   // Read through refresh(): the factor L of M and β̂, for the M they were made from.
   mutable Eigen::LLT<Eigen::MatrixXd, Eigen::Lower> offsets_factor_;
   mutable Eigen::VectorXd offsets_mean_;
-  mutable bool stale_ = false;
-  std::uint64_t version_ = 1;  // changes with M
+  std::uint64_t version_ = 1;                   // changes with M
+  mutable std::uint64_t factored_version_ = 1;  // the M that the factor and β̂ were made from
 };
 
 }  // namespace stgf
