@@ -1,12 +1,31 @@
 // SPDX-License-Identifier: Apache-2.0
 #include "method_runner.hpp"
 
+#include <algorithm>
+#include <vector>
+
 #include <spdlog/spdlog.h>
 
 #include "gating_log.hpp"
 #include "stgf/methods/filter_runner.hpp"
 
 namespace stgf::cli {
+namespace {
+
+// κ̂ over the scenes (registration_prior_scale.hpp): how far the views' offsets were from the size the
+// model's calibration expects.
+void log_registration_prior_scales(const std::string& method, std::vector<double> scales) {
+  if (scales.empty()) return;
+  std::sort(scales.begin(), scales.end());
+  const auto quantile = [&scales](double q) {
+    return scales[static_cast<std::size_t>(q * static_cast<double>(scales.size() - 1) + 0.5)];
+  };
+  spdlog::info("{}: registration prior scaled per scene from the views' disagreements: κ median {:.2f} (10-90 %: "
+               "{:.2f}-{:.2f}) over {} scene(s); the offsets' σ is √κ times the model's calibration",
+               method, quantile(0.5), quantile(0.1), quantile(0.9), scales.size());
+}
+
+}  // namespace
 
 void log_method_report(const std::string& method, const MethodConfig& config, const MotionModel* model,
                        const std::string& model_path, const MethodRunReport& report) {
@@ -21,6 +40,7 @@ void log_method_report(const std::string& method, const MethodConfig& config, co
                  method, report.restarted_tracks - report.gating.restarts, model->prediction_horizon());
   }
   log_gating(method, config.ours.gate, report.gating);
+  log_registration_prior_scales(method, report.registration_prior_scales);
   if (report.rewinds > 0) {
     spdlog::info("{}: {} late row(s) fused in their place in time (arrived after later ones, within the lag window "
                  "of {} s)",

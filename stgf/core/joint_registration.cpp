@@ -69,7 +69,7 @@ const JointRegistration::ViewBlocks* JointRegistration::view_blocks(std::string_
 }
 
 void JointRegistration::add_block(ViewBlocks& view, const Eigen::Matrix<double, 6, Eigen::Dynamic>& directions,
-                                  const Eigen::MatrixXd& covariance) {
+                                  const Eigen::MatrixXd& covariance, bool scaled) {
   // covariance = U diag(λ) Uᵀ; the block holds the coordinates along the eigenvectors with λ > 0.
   const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eigen(covariance);
   const Eigen::VectorXd& values = eigen.eigenvalues();
@@ -90,7 +90,10 @@ void JointRegistration::add_block(ViewBlocks& view, const Eigen::Matrix<double, 
   offsets_information_.bottomRows(size).setZero();
   for (Eigen::Index k = 0; k < size; ++k) {
     basis.col(k) = directions * eigen.eigenvectors().col(kept[k]);
-    offsets_information_(start + k, start + k) = 1.0 / values(kept[k]);
+    // A view's own block has the prior κ Σ₀: information 1/(κ λ) (registration_prior_scale.hpp).
+    const double information = 1.0 / values(kept[k]);
+    offsets_information_(start + k, start + k) = scaled ? information / prior_scale_.scale() : information;
+    prior_scale_.add_coordinate(information, scaled);
   }
   ++version_;
   for (auto& [name, object] : objects_) {
@@ -104,7 +107,7 @@ const JointRegistration::ViewBlocks* JointRegistration::add_view(std::string_vie
   if (prior_.is_zero()) return nullptr;
   if (const ViewBlocks* known = view_blocks(view)) return known;
   ViewBlocks& blocks = views_.emplace(std::string(view), ViewBlocks{}).first->second;
-  add_block(blocks, Eigen::Matrix<double, 6, 6>::Identity(), prior_covariance_);
+  add_block(blocks, Eigen::Matrix<double, 6, 6>::Identity(), prior_covariance_, /*scaled=*/true);
   return &blocks;
 }
 
@@ -156,7 +159,7 @@ void JointRegistration::release_offset(std::string_view view, const Matrix3d& co
   if (found == views_.end()) return;
   Eigen::Matrix<double, 6, 3> translation = Eigen::Matrix<double, 6, 3>::Zero();
   translation.topRows<3>().setIdentity();
-  add_block(found->second, translation, symmetrised(covariance));
+  add_block(found->second, translation, symmetrised(covariance), /*scaled=*/false);
 }
 
 JointRegistration::Innovation JointRegistration::innovation(const Measurement& measurement, double noise_scale) const {
@@ -169,7 +172,7 @@ JointRegistration::Innovation JointRegistration::innovation(const Measurement& m
   refresh();
   Innovation result{measurement.position.mean() - object.mean - c * offsets_mean_,
                     object.covariance + quadratic_form(c) + noise_scale * r};
-  if (view == nullptr && !prior_.is_zero()) result.covariance += h * prior_covariance_ * h.transpose();
+  if (view == nullptr && !prior_.is_zero()) result.covariance += h * prior_covariance() * h.transpose();
   result.covariance = symmetrised(result.covariance);
   return result;
 }
@@ -237,6 +240,74 @@ void JointRegistration::update(std::span<const Measurement* const> measurements,
   ++version_;
 }
 
+void JointRegistration::observe_differences(std::span<const Measurement* const> measurements,
+                                            std::span<const double> noise_scales) {
+  if (measurements.size() != noise_scales.size()) throw std::invalid_argument("JointRegistration::observe_differences: one noise scale per measurement");
+  if (prior_.is_zero() || measurements.size() < 2) return;
+  // β's coordinates that the measurements depend on, measurement by measurement (views are distinct,
+  // so their blocks are), and G_k over its own: z_k = p + G_k β_(k) + e_k.
+  std::vector<Eigen::Index> coordinates;
+  std::vector<Eigen::Index> first;
+  std::vector<Eigen::MatrixXd> g;
+  for (const Measurement* measurement : measurements) {
+    const ViewBlocks* view = view_blocks(measurement->view);
+    if (view == nullptr) throw std::logic_error("JointRegistration::observe_differences: a view not yet in β");
+    first.push_back(static_cast<Eigen::Index>(coordinates.size()));
+    Eigen::Index size = 0;
+    for (const OffsetBlock& block : view->blocks) size += block.basis.cols();
+    Eigen::Matrix<double, 6, Eigen::Dynamic> basis(6, size);
+    Eigen::Index column = 0;
+    for (const OffsetBlock& block : view->blocks) {
+      basis.middleCols(column, block.basis.cols()) = block.basis;
+      column += block.basis.cols();
+      for (Eigen::Index j = 0; j < block.basis.cols(); ++j) coordinates.push_back(block.start + j);
+    }
+    g.push_back(offset_jacobian(measurement->position.covariance()) * basis);
+  }
+  // A_j = Σ G_kᵀ W_k G_k − Fᵀ S⁻¹ F and b_j = Σ G_kᵀ W_k z_k − Fᵀ S⁻¹ y (registration_prior_scale.hpp).
+  const auto n = static_cast<Eigen::Index>(coordinates.size());
+  Eigen::MatrixXd information = Eigen::MatrixXd::Zero(n, n);
+  Eigen::VectorXd vector = Eigen::VectorXd::Zero(n);
+  Matrix3X f = Matrix3X::Zero(3, n);
+  Matrix3d s = Matrix3d::Zero();
+  Vector3d y = Vector3d::Zero();
+  for (std::size_t k = 0; k < measurements.size(); ++k) {
+    const Vector3d& z = measurements[k]->position.mean();
+    const Eigen::LLT<Matrix3d> noise_factor(noise_scales[k] * measurements[k]->position.covariance());
+    if (noise_factor.info() != Eigen::Success) throw std::runtime_error("registration: a measurement's covariance is not positive definite");
+    const Matrix3d weight = noise_factor.solve(Matrix3d::Identity());  // W_k
+    const Matrix3X weighted = weight * g[k];                          // W_k G_k
+    const Eigen::Index size = weighted.cols();
+    information.block(first[k], first[k], size, size).noalias() += g[k].transpose() * weighted;
+    vector.segment(first[k], size).noalias() += weighted.transpose() * z;
+    f.middleCols(first[k], size) = weighted;
+    s += weight;
+    y.noalias() += weight * z;
+  }
+  const Eigen::LLT<Matrix3d> s_factor(symmetrised(s));
+  const Matrix3X x = s_factor.matrixL().solve(f);  // L_S⁻¹ F
+  const Vector3d w = s_factor.matrixL().solve(y);   // L_S⁻¹ y
+  information.noalias() -= x.transpose() * x;
+  vector.noalias() -= x.transpose() * w;
+  prior_scale_.add(coordinates, information, vector, 3.0 * static_cast<double>(measurements.size() - 1));
+}
+
+bool JointRegistration::adapt_prior_scale() {
+  const double before = prior_scale_.scale();
+  if (!prior_scale_.update()) return false;
+  // M = Λ₀/κ + the data's information: only the prior term changes.
+  const double change = 1.0 / prior_scale_.scale() - 1.0 / before;
+  for (std::size_t j = 0; j < prior_scale_.coordinates(); ++j) {
+    if (!prior_scale_.scaled(j)) continue;
+    const auto index = static_cast<Eigen::Index>(j);
+    offsets_information_(index, index) += change * prior_scale_.prior_information(j);
+  }
+  ++version_;
+  return true;
+}
+
+Eigen::Matrix<double, 6, 6> JointRegistration::prior_covariance() const { return prior_scale_.scale() * prior_covariance_; }
+
 void JointRegistration::refresh() const {
   if (factored_version_ == version_) return;
   factored_version_ = version_;
@@ -291,7 +362,7 @@ Eigen::Matrix<double, 6, 1> JointRegistration::offset(std::string_view view) con
 
 Eigen::Matrix<double, 6, 6> JointRegistration::offset_covariance(std::string_view view) const {
   const ViewBlocks* blocks = view_blocks(view);
-  if (blocks == nullptr) return prior_covariance_;
+  if (blocks == nullptr) return prior_covariance();
   refresh();
   if (offsets_information_vector_.size() == 0) return Eigen::Matrix<double, 6, 6>::Zero();
   const Eigen::Matrix<double, 6, Eigen::Dynamic> selector = offset_selector(*blocks);

@@ -65,6 +65,7 @@
 
 #include "stgf/core/gaussian.hpp"
 #include "stgf/core/records.hpp"
+#include "stgf/core/registration_prior_scale.hpp"
 #include "stgf/core/view_registration.hpp"
 
 namespace stgf {
@@ -98,6 +99,17 @@ class JointRegistration {
   // updates with each in turn, in any order.
   void update(std::span<const Measurement* const> measurements, std::span<const double> noise_scales);
   void update(const Measurement& measurement, double noise_scale = 1.0);
+
+  // The size of the offsets, learned from the views' disagreements (registration_prior_scale.hpp):
+  // adds one object's measurements at one time that were fused (with their noise scales) as evidence,
+  // and, once an event is done, re-estimates the prior's scale κ (when the evidence has doubled) and
+  // gives M its new prior term, M += (1/κ' − 1/κ) Λ₀ on the views' own blocks — exact, since M is the
+  // prior's information plus the data's. Returns whether κ changed. Without these calls, κ = 1.
+  void observe_differences(std::span<const Measurement* const> measurements, std::span<const double> noise_scales);
+  bool adapt_prior_scale();
+  double prior_scale() const { return prior_scale_.scale(); }
+  // κ Σ₀: the prior of a view not yet seen.
+  Eigen::Matrix<double, 6, 6> prior_covariance() const;
 
   Gaussian3 position(std::string_view object) const;  // the marginal of p_i
   // A measurement alone, corrected by its view's offset: N(z − H_u β̂_u, μR + H_u Σ_uu H_uᵀ).
@@ -133,8 +145,9 @@ class JointRegistration {
   const ViewBlocks* view_blocks(std::string_view view) const;  // none when unknown
   // Appends an independent block for `covariance`'s nonzero directions (eigenvectors, as columns of
   // `directions` mapped by it), if any.
+  // `scaled`: a view's own block, whose prior is κ Σ₀ (else a release's, fixed).
   void add_block(ViewBlocks& view, const Eigen::Matrix<double, 6, Eigen::Dynamic>& directions,
-                 const Eigen::MatrixXd& covariance);
+                 const Eigen::MatrixXd& covariance, bool scaled);
   const ObjectState& object_state(std::string_view object) const;
   // C = B_i + H_u E_u: how a measurement of object i by view u (none: a view not in β) depends on β.
   Eigen::Matrix<double, 3, Eigen::Dynamic> measurement_offsets(const ObjectState& object, const ViewBlocks* view,
@@ -147,7 +160,8 @@ class JointRegistration {
   void refresh() const;
 
   RegistrationPrior prior_;
-  Eigen::Matrix<double, 6, 6> prior_covariance_;
+  Eigen::Matrix<double, 6, 6> prior_covariance_;  // Σ₀, as calibrated
+  RegistrationPriorScale prior_scale_;
   std::map<std::string, ObjectState, std::less<>> objects_;
   std::map<std::string, ViewBlocks, std::less<>> views_;
   Eigen::MatrixXd offsets_information_;         // M (its lower triangle)

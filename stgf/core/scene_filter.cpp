@@ -385,12 +385,22 @@ void SceneFilter::process_joint(Event& event) {
       fused_scales.push_back(noise_scale(rows[k].measurement.view));
     }
     state_.joint.update(fused, fused_scales);
+    if (options_.adapt_registration_prior) {
+      // Every fused measurement of the object at this time, the anchor too, shows how the views disagree.
+      if (track.empty()) {
+        const Measurement& anchor = rows[decision.anchor].measurement;
+        fused.insert(fused.begin(), &anchor);
+        fused_scales.insert(fused_scales.begin(), noise_scale(anchor.view));
+      }
+      state_.joint.observe_differences(fused, fused_scales);
+    }
     if (track.empty() || !fused.empty()) {
       track.reset_gated_events();
     } else {
       track.count_gated_event();
     }
   }
+  if (options_.adapt_registration_prior) state_.joint.adapt_prior_scale();
   for (const Checked& object : checked) {
     const std::span<Row> rows(event.rows.data() + object.first, object.end - object.first);
     ObjectTrack& track = *object.track;

@@ -93,6 +93,9 @@ enum class LatePolicy { kLeaveOut, kStop };
 struct FilterOptions {
   RegistrationPrior registration;           // the views' unstated offsets (zero: none)
   bool adapt_process_noise = true;          // scale Q online from the innovations (false: λ = 1)
+  // kPerObject: learn the registration prior's scale κ from the views' disagreements
+  // (registration_prior_scale.hpp; false: κ = 1, the prior as given)
+  bool adapt_registration_prior = true;
   TrackMode tracks = TrackMode::kPerObject;
   double lag_window = 1.0;                  // s: how late a measurement may come and still count
   LatePolicy late = LatePolicy::kLeaveOut;  // what happens to one that comes later
@@ -153,6 +156,8 @@ class SceneFilter {
   const Vector3d& process_noise_scales() const { return state_.process_noise_scale.scales(); }
   // The estimated registration offset of a view (t, δ; zero for a zero prior or an unknown view).
   Eigen::Matrix<double, 6, 1> registration_offset(std::string_view view) const;
+  // κ̂, the scale learned for the registration prior (1 when not learned).
+  double registration_prior_scale() const { return state_.joint.prior_scale(); }
   // The latest event time processed (−∞ before any).
   double latest_time() const { return latest_time_; }
 

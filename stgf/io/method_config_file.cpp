@@ -159,6 +159,12 @@ void read_ours(const std::string& path, const YAML::Node& node, OursSettings& se
       } catch (const YAML::Exception&) {
         throw InputError(path, line_of(entry.second), name + " must be true or false");
       }
+    } else if (key == "adapt_registration_prior") {
+      try {
+        settings.adapt_registration_prior = entry.second.as<bool>();
+      } catch (const YAML::Exception&) {
+        throw InputError(path, line_of(entry.second), name + " must be true or false");
+      }
     } else if (key == "registration_noise_ratio") {
       settings.noise_ratio = non_negative_number(path, name, entry.second);
     } else if (key == "tracks") {

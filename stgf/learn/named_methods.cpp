@@ -28,6 +28,7 @@ FilterOptions filter_options_for(const OursSettings& settings, const nlohmann::j
   FilterOptions options;
   options.registration = resolve_registration_prior(settings, metadata, model_path, registration_missing);
   options.adapt_process_noise = settings.adapt_process_noise;
+  options.adapt_registration_prior = settings.adapt_registration_prior;
   options.tracks = settings.per_view_tracks ? TrackMode::kPerView : TrackMode::kPerObject;
   options.lag_window = settings.lag_window;
   options.late = settings.stop_on_late ? LatePolicy::kStop : LatePolicy::kLeaveOut;
@@ -41,6 +42,8 @@ void MethodRunReport::add(const MethodRunReport& later) {
   late_measurements += later.late_measurements;
   registration_missing = registration_missing || later.registration_missing;
   gating.add(later.gating);
+  registration_prior_scales.insert(registration_prior_scales.end(), later.registration_prior_scales.begin(),
+                                   later.registration_prior_scales.end());
 }
 
 std::vector<Gaussian3> run_named_method(const std::string& method, const MethodConfig& config, const MotionModel* model,
@@ -79,6 +82,7 @@ std::vector<Gaussian3> NamedMethodRun::add(std::span<const Measurement> rows) {
   part.rewinds = run.rewinds;
   part.late_measurements = run.late_measurements;
   part.gating = std::move(run.gating);
+  part.registration_prior_scales = std::move(run.registration_prior_scales);
   report_.add(part);
   if (prediction_only) {
     for (std::size_t row = 0; row < rows.size(); ++row) {

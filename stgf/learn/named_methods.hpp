@@ -35,6 +35,7 @@ struct MethodRunReport {
   std::size_t late_measurements = 0;  // rows later than the lag window, left out of the fusion
   bool registration_missing = false;  // the model holds no registration calibration (offsets taken as zero)
   GatingSummary gating;               // what the χ² gate did (its restarts are in restarted_tracks too)
+  std::vector<double> registration_prior_scales;  // κ̂ per scene (filter_runner.hpp)
 
   // Adds what a run over later scenes did (a list run in parts).
   void add(const MethodRunReport& later);

@@ -20,6 +20,7 @@ struct OursSettings {
   std::optional<Vector3d> translation_sigma;  // σ of the translation offset (m); unset: the model's calibration
   std::optional<double> noise_ratio;          // σ of the noise-unit offset; unset: the model's calibration
   bool adapt_process_noise = true;            // scale Q online from the innovations
+  bool adapt_registration_prior = true;       // scale the registration prior from the views' disagreements
   bool per_view_tracks = false;               // the paper's per-view tracks instead of one per object
   double lag_window = 1.0;                    // s: how late a message may arrive and still be fused in place
   bool stop_on_late = false;                  // a message later than that: stop (true) or leave it out
