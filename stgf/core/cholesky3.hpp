@@ -40,6 +40,17 @@ class Cholesky3 {
   // False unless A is positive definite (every pivot positive and finite).
   bool ok() const { return ok_; }
 
+  // M = L⁻¹ (lower triangular). Requires ok().
+  Eigen::Matrix3d inverse_factor() const {
+    const double m00 = 1.0 / l00_, m11 = 1.0 / l11_, m22 = 1.0 / l22_;
+    const double m10 = -l10_ * m00 * m11;
+    const double m21 = -l21_ * m11 * m22;
+    const double m20 = -(l20_ * m00 + l21_ * m10) * m22;
+    Eigen::Matrix3d m;
+    m << m00, 0, 0, m10, m11, 0, m20, m21, m22;
+    return m;
+  }
+
   // A⁻¹ = Mᵀ M. Requires ok().
   Eigen::Matrix3d inverse() const {
     const double m00 = 1.0 / l00_, m11 = 1.0 / l11_, m22 = 1.0 / l22_;

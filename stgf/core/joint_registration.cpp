@@ -7,6 +7,8 @@
 
 #include <Eigen/Eigenvalues>
 
+#include "stgf/core/cholesky3.hpp"
+
 namespace stgf {
 using Matrix36 = Eigen::Matrix<double, 3, 6>;
 using Matrix3X = Eigen::Matrix<double, 3, Eigen::Dynamic>;
@@ -16,6 +18,9 @@ namespace {
 using MatrixX3 = Eigen::Matrix<double, Eigen::Dynamic, 3>;
 // A measurement's dependence on one offset block (at most 6 coordinates), on the stack.
 using BlockColumns = Eigen::Matrix<double, 3, Eigen::Dynamic, Eigen::ColMajor, 3, 6>;
+// Two blocks' term of the offsets' information, and one block's of a vector, on the stack.
+using OffsetInformationBlock = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::ColMajor, 6, 6>;
+using BlockVector = Eigen::Matrix<double, Eigen::Dynamic, 1, Eigen::ColMajor, 6, 1>;
 
 // The object's conditional term of the joint information, BᵀP⁻¹B and BᵀP⁻¹â, as Uᵀ U and Uᵀ w with
 // Uᵀ = (L_P⁻¹ B)ᵀ (c × 3) and w = L_P⁻¹ â (P = L_P L_Pᵀ).
@@ -194,9 +199,9 @@ void JointRegistration::update(std::span<const Measurement* const> measurements,
   for (const Measurement* measurement : measurements) views.push_back(add_view(measurement->view));
   ObjectState& object = objects_.find(name)->second;
   const auto conditional_term = [&object]() {
-    const Eigen::LLT<Matrix3d> factor(object.covariance);
-    if (factor.info() != Eigen::Success) throw std::runtime_error("registration: a position's covariance is not positive definite");
-    const Matrix3d inverse_factor = factor.matrixL().solve(Matrix3d::Identity());  // L_P⁻¹
+    const Cholesky3 factor(object.covariance);
+    if (!factor.ok()) throw std::runtime_error("registration: a position's covariance is not positive definite");
+    const Matrix3d inverse_factor = factor.inverse_factor();  // L_P⁻¹
     return ConditionalTerm{(inverse_factor.lazyProduct(object.offsets)).transpose(), inverse_factor * object.mean};
   };
   const ConditionalTerm before = conditional_term();
@@ -207,13 +212,14 @@ void JointRegistration::update(std::span<const Measurement* const> measurements,
     const Matrix3d noise = noise_scales[k] * measurement.position.covariance();  // R_k
     const Vector3d& z = measurement.position.mean();
     const Matrix36 h = offset_jacobian(measurement.position.covariance());
-    const Eigen::LLT<Matrix3d> noise_factor(noise);
-    if (noise_factor.info() != Eigen::Success) throw std::runtime_error("registration: a measurement's covariance is not positive definite");
+    const Cholesky3 noise_factor(noise);
+    if (!noise_factor.ok()) throw std::runtime_error("registration: a measurement's covariance is not positive definite");
+    const Matrix3d noise_inverse = noise_factor.inverse();  // R_k⁻¹
     // The view's own term: G_kᵀ R_k⁻¹ G_k and G_kᵀ R_k⁻¹ z_k, on its blocks only (lower triangle of M).
     if (views[k] != nullptr) {
       for (const OffsetBlock& row_block : views[k]->blocks) {
         const BlockColumns g_row = h * row_block.basis;
-        const BlockColumns whitened_row = noise_factor.solve(g_row);  // R⁻¹ G
+        const BlockColumns whitened_row = noise_inverse * g_row;  // R⁻¹ G
         information_vector.segment(row_block.start, g_row.cols()).noalias() += whitened_row.transpose() * z;
         for (const OffsetBlock& column_block : views[k]->blocks) {
           if (column_block.start > row_block.start) continue;
@@ -224,9 +230,9 @@ void JointRegistration::update(std::span<const Measurement* const> measurements,
     }
     // a_i given β: z_k − (B_i + G_k) β = a_i + e_k.
     const Matrix3X c = measurement_offsets(object, views[k], h);
-    const Eigen::LLT<Matrix3d> t_factor(symmetrised(object.covariance + noise));  // T = P_i + R_k
-    if (t_factor.info() != Eigen::Success) throw std::runtime_error("registration: P + R not positive definite");
-    const Matrix3d gain = t_factor.solve(object.covariance).transpose();  // P_i T⁻¹ (P_i, T symmetric)
+    const Cholesky3 t_factor(symmetrised(object.covariance + noise));  // T = P_i + R_k
+    if (!t_factor.ok()) throw std::runtime_error("registration: P + R not positive definite");
+    const Matrix3d gain = object.covariance * t_factor.inverse();  // P_i T⁻¹
     object.mean += gain * (z - object.mean);
     object.offsets -= gain.lazyProduct(c);
     object.spread_version = 0;
@@ -243,53 +249,65 @@ void JointRegistration::update(std::span<const Measurement* const> measurements,
 void JointRegistration::observe_differences(std::span<const Measurement* const> measurements,
                                             std::span<const double> noise_scales) {
   if (measurements.size() != noise_scales.size()) throw std::invalid_argument("JointRegistration::observe_differences: one noise scale per measurement");
-  if (prior_.is_zero() || measurements.size() < 2) return;
-  // β's coordinates that the measurements depend on, measurement by measurement (views are distinct,
-  // so their blocks are), and G_k over its own: z_k = p + G_k β_(k) + e_k.
-  std::vector<Eigen::Index> coordinates;
-  std::vector<Eigen::Index> first;
-  std::vector<Eigen::MatrixXd> g;
-  for (const Measurement* measurement : measurements) {
-    const ViewBlocks* view = view_blocks(measurement->view);
-    if (view == nullptr) throw std::logic_error("JointRegistration::observe_differences: a view not yet in β");
-    first.push_back(static_cast<Eigen::Index>(coordinates.size()));
-    Eigen::Index size = 0;
-    for (const OffsetBlock& block : view->blocks) size += block.basis.cols();
-    Eigen::Matrix<double, 6, Eigen::Dynamic> basis(6, size);
-    Eigen::Index column = 0;
-    for (const OffsetBlock& block : view->blocks) {
-      basis.middleCols(column, block.basis.cols()) = block.basis;
-      column += block.basis.cols();
-      for (Eigen::Index j = 0; j < block.basis.cols(); ++j) coordinates.push_back(block.start + j);
-    }
-    g.push_back(offset_jacobian(measurement->position.covariance()) * basis);
-  }
-  // A_j = Σ G_kᵀ W_k G_k − Fᵀ S⁻¹ F and b_j = Σ G_kᵀ W_k z_k − Fᵀ S⁻¹ y (registration_prior_scale.hpp).
-  const auto n = static_cast<Eigen::Index>(coordinates.size());
-  Eigen::MatrixXd information = Eigen::MatrixXd::Zero(n, n);
-  Eigen::VectorXd vector = Eigen::VectorXd::Zero(n);
-  Matrix3X f = Matrix3X::Zero(3, n);
+  if (prior_.is_zero() || measurements.size() < 2 || prior_scale_.has_enough_evidence()) return;
+  // A_j = Σ_k G_kᵀ W_k G_k − Fᵀ S⁻¹ F and b_j = Σ_k G_kᵀ W_k z_k − Fᵀ S⁻¹ y (registration_prior_scale.hpp),
+  // block by block: G_k is nonzero on its view's blocks only, which are contiguous in β and disjoint
+  // across views; Fᵀ S⁻¹ F = XᵀX with X = L_S⁻¹ F.
+  struct Segment {
+    Eigen::Index start;
+    BlockColumns g;         // G_k on this block
+    BlockColumns weighted;  // W_k G_k, then X on this block
+    std::size_t measurement;
+  };
+  std::vector<Segment> segments;
+  segments.reserve(measurements.size());
   Matrix3d s = Matrix3d::Zero();
   Vector3d y = Vector3d::Zero();
   for (std::size_t k = 0; k < measurements.size(); ++k) {
-    const Vector3d& z = measurements[k]->position.mean();
-    const Eigen::LLT<Matrix3d> noise_factor(noise_scales[k] * measurements[k]->position.covariance());
-    if (noise_factor.info() != Eigen::Success) throw std::runtime_error("registration: a measurement's covariance is not positive definite");
-    const Matrix3d weight = noise_factor.solve(Matrix3d::Identity());  // W_k
-    const Matrix3X weighted = weight * g[k];                          // W_k G_k
-    const Eigen::Index size = weighted.cols();
-    information.block(first[k], first[k], size, size).noalias() += g[k].transpose() * weighted;
-    vector.segment(first[k], size).noalias() += weighted.transpose() * z;
-    f.middleCols(first[k], size) = weighted;
+    const Measurement& measurement = *measurements[k];
+    const ViewBlocks* view = view_blocks(measurement.view);
+    if (view == nullptr) throw std::logic_error("JointRegistration::observe_differences: a view not yet in β");
+    const Cholesky3 noise_factor(noise_scales[k] * measurement.position.covariance());
+    if (!noise_factor.ok()) throw std::runtime_error("registration: a measurement's covariance is not positive definite");
+    const Matrix3d weight = noise_factor.inverse();  // W_k
+    const Vector3d& z = measurement.position.mean();
+    const Matrix36 h = offset_jacobian(measurement.position.covariance());
+    const std::size_t first = segments.size();
+    for (const OffsetBlock& block : view->blocks) {
+      const BlockColumns g = h * block.basis;
+      const BlockColumns weighted = weight * g;
+      const BlockVector product = weighted.transpose() * z;
+      prior_scale_.add_vector(block.start, product);
+      segments.push_back(Segment{block.start, g, weighted, k});
+    }
+    // Σ_k G_kᵀ W_k G_k: the blocks of one measurement, lower triangle.
+    for (std::size_t a = first; a < segments.size(); ++a) {
+      for (std::size_t b = first; b < segments.size(); ++b) {
+        if (segments[a].start < segments[b].start) continue;
+        const OffsetInformationBlock product = segments[a].g.transpose() * segments[b].weighted;
+        prior_scale_.add_information(segments[a].start, segments[b].start, product);
+      }
+    }
     s += weight;
     y.noalias() += weight * z;
   }
-  const Eigen::LLT<Matrix3d> s_factor(symmetrised(s));
-  const Matrix3X x = s_factor.matrixL().solve(f);  // L_S⁻¹ F
-  const Vector3d w = s_factor.matrixL().solve(y);   // L_S⁻¹ y
-  information.noalias() -= x.transpose() * x;
-  vector.noalias() -= x.transpose() * w;
-  prior_scale_.add(coordinates, information, vector, 3.0 * static_cast<double>(measurements.size() - 1));
+  const Cholesky3 s_factor(s);
+  if (!s_factor.ok()) throw std::runtime_error("registration: the measurements' total information is not positive definite");
+  const Matrix3d whitening = s_factor.inverse_factor();  // L_S⁻¹
+  const Vector3d w = whitening * y;
+  for (Segment& segment : segments) {
+    segment.weighted = whitening * segment.weighted;  // X on this block
+    const BlockVector product = -(segment.weighted.transpose() * w);
+    prior_scale_.add_vector(segment.start, product);
+  }
+  for (const Segment& a : segments) {
+    for (const Segment& b : segments) {
+      if (a.start < b.start) continue;
+      const OffsetInformationBlock product = -(a.weighted.transpose() * b.weighted);
+      prior_scale_.add_information(a.start, b.start, product);
+    }
+  }
+  prior_scale_.add_dimensions(3.0 * static_cast<double>(measurements.size() - 1));
 }
 
 bool JointRegistration::adapt_prior_scale() {

@@ -53,6 +53,7 @@ class RegistrationPriorScale {
  public:
   static constexpr double kLogScaleSigma = 1.0;
   static constexpr double kFirstEstimateDimensions = 24.0;
+  static constexpr double kEnoughEvidenceDimensions = 1e5;
   static constexpr int kGridPoints = 81;  // log₂ κ = −10, −9.75, …, 10
 
   // Appends a coordinate of β with its prior information (> 0); `scaled`: part of a view's own offset
@@ -62,10 +63,15 @@ class RegistrationPriorScale {
   double prior_information(std::size_t coordinate) const { return prior_information_[coordinate]; }
   bool scaled(std::size_t coordinate) const { return scaled_[coordinate]; }
 
-  // Adds one object's disagreement at one time: A_j and b_j over the β coordinates `coordinates`
-  // (distinct), and its dimensions 3(k − 1).
-  void add(std::span<const Eigen::Index> coordinates, const Eigen::MatrixXd& information,
-           const Eigen::VectorXd& vector, double dimensions);
+  // One object's disagreement at one time is added in pieces: A_j by blocks of its lower triangle
+  // (at rows [row, row + block rows), columns [column, …); a block on the diagonal is read by its lower
+  // triangle), b_j by segments, then its dimensions 3(k − 1).
+  void add_information(Eigen::Index row, Eigen::Index column, const Eigen::Ref<const Eigen::MatrixXd>& block);
+  void add_vector(Eigen::Index row, const Eigen::Ref<const Eigen::VectorXd>& segment);
+  void add_dimensions(double dimensions) { dimensions_ += dimensions; }
+  // Evidence beyond kEnoughEvidenceDimensions no longer sharpens κ̂ (its precision is set by how many
+  // offsets there are, once each is known): a caller may stop adding it.
+  bool has_enough_evidence() const { return dimensions_ >= kEnoughEvidenceDimensions; }
 
   // Re-estimates κ̂ if the evidence has doubled since the last estimate. Returns whether κ̂ changed.
   bool update();
@@ -78,8 +84,9 @@ class RegistrationPriorScale {
  private:
   std::vector<double> prior_information_;
   std::vector<bool> scaled_;
-  Eigen::MatrixXd information_;  // A (full, symmetric)
-  Eigen::VectorXd vector_;       // b
+  // A (its lower triangle) and b, in the leading coordinates() rows of storage kept with room to grow.
+  Eigen::MatrixXd information_;
+  Eigen::VectorXd vector_;
   double dimensions_ = 0.0;
   double estimated_at_ = 0.0;  // evidence dimensions of the last estimate
   double scale_ = 1.0;

@@ -23,6 +23,9 @@ TEST(Cholesky3, MatchesEigenOnRandomSpdMatrices) {
     const Eigen::Matrix3d inverse = cholesky.inverse();
     ASSERT_EQ(inverse, inverse.transpose());
     ASSERT_LT(testing::relative_difference(inverse * a, Eigen::Matrix3d::Identity()), 1e-10);
+    const Eigen::Matrix3d inverse_factor = cholesky.inverse_factor();  // L⁻¹, lower triangular
+    ASSERT_TRUE(inverse_factor.triangularView<Eigen::StrictlyUpper>().toDenseMatrix().isZero(0.0));
+    ASSERT_LT(testing::relative_difference(inverse_factor * cholesky.matrix_l(), Eigen::Matrix3d::Identity()), 1e-10);
   }
 }
 

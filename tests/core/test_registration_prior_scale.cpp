@@ -7,6 +7,7 @@
 
 #include "stgf/core/registration_prior_scale.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <random>
 
@@ -51,11 +52,21 @@ TEST(RegistrationPriorScale, LogPosteriorIsTheDenseMarginalLikelihood) {
   Eigen::VectorXd b = Eigen::VectorXd::Zero(size);
   for (int part = 0; part < 5; ++part) {
     // A rank-deficient piece over a subset of the coordinates, as one object's disagreement gives.
-    const std::vector<Eigen::Index> coordinates = {static_cast<Eigen::Index>(part), 3, static_cast<Eigen::Index>(part + 4), 8};
+    std::vector<Eigen::Index> coordinates = {0, 1, 2, 3, 4, 5, 6, 7, 8};
+    std::shuffle(coordinates.begin(), coordinates.end(), random);
+    coordinates.resize(4);  // distinct, any order
     const Eigen::MatrixXd root = Eigen::MatrixXd::NullaryExpr(2, 4, [&] { return normal(random); });
     const Eigen::MatrixXd information = root.transpose() * root;
     const Eigen::VectorXd vector = Eigen::VectorXd::NullaryExpr(4, [&] { return normal(random); });
-    scale.add(coordinates, information, vector, 3.0);
+    for (std::size_t i = 0; i < coordinates.size(); ++i) {
+      scale.add_vector(coordinates[i], vector.segment<1>(static_cast<Eigen::Index>(i)));
+      for (std::size_t j = 0; j < coordinates.size(); ++j) {
+        if (coordinates[i] < coordinates[j]) continue;
+        scale.add_information(coordinates[i], coordinates[j],
+                              information.block<1, 1>(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(j)));
+      }
+    }
+    scale.add_dimensions(3.0);
     a(coordinates, coordinates) += information;
     b(coordinates) += vector;
   }
@@ -76,8 +87,8 @@ TEST(RegistrationPriorScale, RejectsABadCoordinateAndMismatchedSizes) {
   EXPECT_THROW(scale.add_coordinate(0.0, true), std::invalid_argument);
   EXPECT_THROW(scale.add_coordinate(std::nan(""), true), std::invalid_argument);
   scale.add_coordinate(1.0, true);
-  const std::vector<Eigen::Index> one = {0};
-  EXPECT_THROW(scale.add(one, Eigen::MatrixXd::Zero(2, 2), Eigen::VectorXd::Zero(2), 3.0), std::invalid_argument);
+  EXPECT_THROW(scale.add_information(0, 0, Eigen::MatrixXd::Zero(2, 2)), std::invalid_argument);
+  EXPECT_THROW(scale.add_vector(0, Eigen::VectorXd::Zero(2)), std::invalid_argument);
   EXPECT_EQ(scale.scale(), 1.0);
   EXPECT_FALSE(scale.update());  // no evidence yet
 }
