@@ -14,15 +14,22 @@ namespace {
 
 // κ̂ over the scenes (registration_prior_scale.hpp): how far the views' offsets were from the size the
 // model's calibration expects.
-void log_registration_prior_scales(const std::string& method, std::vector<double> scales) {
-  if (scales.empty()) return;
-  std::sort(scales.begin(), scales.end());
-  const auto quantile = [&scales](double q) {
-    return scales[static_cast<std::size_t>(q * static_cast<double>(scales.size() - 1) + 0.5)];
-  };
-  spdlog::info("{}: registration prior scaled per scene from the views' disagreements: κ median {:.2f} (10-90 %: "
-               "{:.2f}-{:.2f}) over {} scene(s); the offsets' σ is √κ times the model's calibration",
-               method, quantile(0.5), quantile(0.1), quantile(0.9), scales.size());
+void log_registration_prior_scales(const std::string& method, std::vector<double> scales, std::size_t without) {
+  if (!scales.empty()) {
+    std::sort(scales.begin(), scales.end());
+    const auto quantile = [&scales](double q) {
+      return scales[static_cast<std::size_t>(q * static_cast<double>(scales.size() - 1) + 0.5)];
+    };
+    spdlog::info("{}: registration prior scaled per scene from the views' disagreements: κ median {:.2f} (10-90 %: "
+                 "{:.2f}-{:.2f}) over {} scene(s); the offsets' σ is √κ times the model's calibration",
+                 method, quantile(0.5), quantile(0.1), quantile(0.9), scales.size());
+  }
+  if (without > 0) {
+    spdlog::info("{}: {} scene(s) kept the registration prior as calibrated: their views seldom measured an object at "
+                 "the same time, too little to learn its scale from (set it under `ours:` in --config if your "
+                 "sensors are registered differently)",
+                 method, without);
+  }
 }
 
 }  // namespace
@@ -40,7 +47,7 @@ void log_method_report(const std::string& method, const MethodConfig& config, co
                  method, report.restarted_tracks - report.gating.restarts, model->prediction_horizon());
   }
   log_gating(method, config.ours.gate, report.gating);
-  log_registration_prior_scales(method, report.registration_prior_scales);
+  log_registration_prior_scales(method, report.registration_prior_scales, report.scenes_without_prior_scale);
   if (report.rewinds > 0) {
     spdlog::info("{}: {} late row(s) fused in their place in time (arrived after later ones, within the lag window "
                  "of {} s)",

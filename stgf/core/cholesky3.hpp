@@ -42,21 +42,15 @@ class Cholesky3 {
 
   // M = L⁻¹ (lower triangular). Requires ok().
   Eigen::Matrix3d inverse_factor() const {
-    const double m00 = 1.0 / l00_, m11 = 1.0 / l11_, m22 = 1.0 / l22_;
-    const double m10 = -l10_ * m00 * m11;
-    const double m21 = -l21_ * m11 * m22;
-    const double m20 = -(l20_ * m00 + l21_ * m10) * m22;
-    Eigen::Matrix3d m;
-    m << m00, 0, 0, m10, m11, 0, m20, m21, m22;
-    return m;
+    const InverseFactor m = inverse_factor_entries();
+    Eigen::Matrix3d result;
+    result << m.m00, 0, 0, m.m10, m.m11, 0, m.m20, m.m21, m.m22;
+    return result;
   }
 
   // A⁻¹ = Mᵀ M. Requires ok().
   Eigen::Matrix3d inverse() const {
-    const double m00 = 1.0 / l00_, m11 = 1.0 / l11_, m22 = 1.0 / l22_;
-    const double m10 = -l10_ * m00 * m11;
-    const double m21 = -l21_ * m11 * m22;
-    const double m20 = -(l20_ * m00 + l21_ * m10) * m22;
+    const auto [m00, m11, m22, m10, m21, m20] = inverse_factor_entries();
     Eigen::Matrix3d inverse;
     inverse(0, 0) = m00 * m00 + m10 * m10 + m20 * m20;
     inverse(1, 1) = m11 * m11 + m21 * m21;
@@ -80,6 +74,17 @@ class Cholesky3 {
   }
 
  private:
+  struct InverseFactor {
+    double m00, m11, m22, m10, m21, m20;
+  };
+  InverseFactor inverse_factor_entries() const {
+    const double m00 = 1.0 / l00_, m11 = 1.0 / l11_, m22 = 1.0 / l22_;
+    const double m10 = -l10_ * m00 * m11;
+    const double m21 = -l21_ * m11 * m22;
+    const double m20 = -(l20_ * m00 + l21_ * m10) * m22;
+    return {m00, m11, m22, m10, m21, m20};
+  }
+
   bool ok_ = false;
   double l00_ = 0, l10_ = 0, l20_ = 0, l11_ = 0, l21_ = 0, l22_ = 0;
 };

@@ -108,6 +108,7 @@ class JointRegistration {
   void observe_differences(std::span<const Measurement* const> measurements, std::span<const double> noise_scales);
   bool adapt_prior_scale();
   double prior_scale() const { return prior_scale_.scale(); }
+  bool prior_scale_estimated() const { return prior_scale_.estimated(); }  // else κ = 1: too little evidence
   // κ Σ₀: the prior of a view not yet seen.
   Eigen::Matrix<double, 6, 6> prior_covariance() const;
 

@@ -76,6 +76,7 @@ class RegistrationPriorScale {
   // Re-estimates κ̂ if the evidence has doubled since the last estimate. Returns whether κ̂ changed.
   bool update();
   double scale() const { return scale_; }  // κ̂: 1 before any estimate
+  bool estimated() const { return estimated_at_ > 0.0; }
   double evidence_dimensions() const { return dimensions_; }
 
   // The log posterior (up to a constant) of κ = 2^(grid index / 4 − 10) for the evidence so far.

@@ -44,6 +44,7 @@ void MethodRunReport::add(const MethodRunReport& later) {
   gating.add(later.gating);
   registration_prior_scales.insert(registration_prior_scales.end(), later.registration_prior_scales.begin(),
                                    later.registration_prior_scales.end());
+  scenes_without_prior_scale += later.scenes_without_prior_scale;
 }
 
 std::vector<Gaussian3> run_named_method(const std::string& method, const MethodConfig& config, const MotionModel* model,
@@ -83,6 +84,7 @@ std::vector<Gaussian3> NamedMethodRun::add(std::span<const Measurement> rows) {
   part.late_measurements = run.late_measurements;
   part.gating = std::move(run.gating);
   part.registration_prior_scales = std::move(run.registration_prior_scales);
+  part.scenes_without_prior_scale = run.scenes_without_prior_scale;
   report_.add(part);
   if (prediction_only) {
     for (std::size_t row = 0; row < rows.size(); ++row) {

@@ -117,7 +117,11 @@ void run_block(const MotionPredictor& predictor, const FilterOptions& options, s
     run.gating.add(scene.name, scene.filter->view_noise_scales());
     run.gating.restarts += scene.filter->gate_restarts();
     if (options.adapt_registration_prior && !options.registration.is_zero() && options.tracks == TrackMode::kPerObject) {
-      run.registration_prior_scales.push_back(scene.filter->registration_prior_scale());
+      if (scene.filter->registration_prior_scale_learned()) {
+        run.registration_prior_scales.push_back(scene.filter->registration_prior_scale());
+      } else {
+        ++run.scenes_without_prior_scale;
+      }
     }
   }
 }
