@@ -261,53 +261,77 @@ void JointRegistration::observe_differences(std::span<const Measurement* const> 
   };
   std::vector<Segment> segments;
   segments.reserve(measurements.size());
+  std::vector<Matrix3d> weights(measurements.size());  // W_k
+  std::vector<Vector3d> corrected(measurements.size());  // c_k = z_k − G_k β̂
   Matrix3d s = Matrix3d::Zero();
-  Vector3d y = Vector3d::Zero();
+  Vector3d y = Vector3d::Zero(), corrected_sum = Vector3d::Zero();
+  // β̂ as last factored (before this event's updates; coordinates added since count as zero): only
+  // for the robustness weight below.
+  const Eigen::VectorXd& estimate = offsets_mean_;
   for (std::size_t k = 0; k < measurements.size(); ++k) {
     const Measurement& measurement = *measurements[k];
     const ViewBlocks* view = view_blocks(measurement.view);
     if (view == nullptr) throw std::logic_error("JointRegistration::observe_differences: a view not yet in β");
     const Cholesky3 noise_factor(noise_scales[k] * measurement.position.covariance());
     if (!noise_factor.ok()) throw std::runtime_error("registration: a measurement's covariance is not positive definite");
-    const Matrix3d weight = noise_factor.inverse();  // W_k
+    weights[k] = noise_factor.inverse();
     const Vector3d& z = measurement.position.mean();
     const Matrix36 h = offset_jacobian(measurement.position.covariance());
-    const std::size_t first = segments.size();
+    corrected[k] = z;
     for (const OffsetBlock& block : view->blocks) {
       const BlockColumns g = h * block.basis;
-      const BlockColumns weighted = weight * g;
-      const BlockVector product = weighted.transpose() * z;
-      prior_scale_.add_vector(block.start, product);
-      segments.push_back(Segment{block.start, g, weighted, k});
+      segments.push_back(Segment{block.start, g, weights[k] * g, k});
+      if (block.start + g.cols() <= estimate.size()) corrected[k].noalias() -= g * estimate.segment(block.start, g.cols());
     }
-    // Σ_k G_kᵀ W_k G_k: the blocks of one measurement, lower triangle.
-    for (std::size_t a = first; a < segments.size(); ++a) {
-      for (std::size_t b = first; b < segments.size(); ++b) {
-        if (segments[a].start < segments[b].start) continue;
-        const OffsetInformationBlock product = segments[a].g.transpose() * segments[b].weighted;
-        prior_scale_.add_information(segments[a].start, segments[b].start, product);
-      }
-    }
-    s += weight;
-    y.noalias() += weight * z;
+    s += weights[k];
+    y.noalias() += weights[k] * z;
+    corrected_sum.noalias() += weights[k] * corrected[k];
   }
   const Cholesky3 s_factor(s);
   if (!s_factor.ok()) throw std::runtime_error("registration: the measurements' total information is not positive definite");
+  // Robustness: q = Σ_k (c_k − c̄)ᵀ W_k (c_k − c̄), the disagreement left once the offsets as known
+  // are taken out, is about 3(k − 1) when the model holds. A time whose q is more than
+  // kDisagreementTolerance times that (a gross outlier, a view whose R is far too small, an offset
+  // that has just jumped) counts with the weight ω = tolerance · 3(k − 1) / q, which bounds its pull
+  // on κ; one far off with bias from every view alike (offsets larger than the prior) still counts.
+  const Vector3d mean = s_factor.inverse() * corrected_sum;
+  double disagreement = 0.0;
+  for (std::size_t k = 0; k < measurements.size(); ++k) {
+    const Vector3d residual = corrected[k] - mean;
+    disagreement += residual.dot(weights[k] * residual);
+  }
+  const double dimensions = 3.0 * static_cast<double>(measurements.size() - 1);
+  const double limit = RegistrationPriorScale::kDisagreementTolerance * dimensions;
+  const double omega = disagreement > limit ? limit / disagreement : 1.0;
   const Matrix3d whitening = s_factor.inverse_factor();  // L_S⁻¹
   const Vector3d w = whitening * y;
+  for (std::size_t a = 0; a < segments.size(); ++a) {
+    const Segment& row = segments[a];
+    const Vector3d& z = measurements[row.measurement]->position.mean();
+    const BlockVector own = row.weighted.transpose() * z;  // G_kᵀ W_k z_k
+    // Σ_k G_kᵀ W_k G_k: the blocks of one measurement, lower triangle.
+    for (std::size_t b = 0; b < segments.size(); ++b) {
+      const Segment& column = segments[b];
+      if (column.measurement != row.measurement || row.start < column.start) continue;
+      const OffsetInformationBlock product = omega * (row.g.transpose() * column.weighted);
+      prior_scale_.add_information(row.start, column.start, product);
+    }
+    const BlockVector scaled_own = omega * own;
+    prior_scale_.add_vector(row.start, scaled_own);
+  }
   for (Segment& segment : segments) {
     segment.weighted = whitening * segment.weighted;  // X on this block
-    const BlockVector product = -(segment.weighted.transpose() * w);
+    const BlockVector product = -omega * (segment.weighted.transpose() * w);
     prior_scale_.add_vector(segment.start, product);
   }
   for (const Segment& a : segments) {
     for (const Segment& b : segments) {
       if (a.start < b.start) continue;
-      const OffsetInformationBlock product = -(a.weighted.transpose() * b.weighted);
+      const OffsetInformationBlock product = -omega * (a.weighted.transpose() * b.weighted);
       prior_scale_.add_information(a.start, b.start, product);
     }
   }
-  prior_scale_.add_dimensions(3.0 * static_cast<double>(measurements.size() - 1));
+  prior_scale_.add_dimensions(omega * dimensions);
 }
 
 bool JointRegistration::adapt_prior_scale() {
