@@ -100,7 +100,7 @@ cat >> "$out/generalization.md" <<'NOTES'
 - Cameras 3 and 5 times worse calibrated than the training benchmark's: with the prior the model
   calibrated, `ours-fixed-prior` trusts the offsets' estimates too much (NEES 9 and 21). `ours`
   scales the prior per scene from what the views disagree on (`stgf run` logs the scale κ over the
-  scenes: median 7.9 and 22.8 here, against the true 9 and 25) and stays honest (NEES 2.8 and 3.1)
+  scenes: median 7.9 and 22.3 here, against the true 9 and 25) and stays honest (NEES 2.8 and 3.2)
   and a little more accurate. `ours-registration-off` shows what the offsets cost a filter that
   ignores them.
 - The cad model's prior (vehicles' GPS errors, σ ≈ 0.3 m) is far too large for ETH/UCY's cameras
