@@ -85,6 +85,36 @@ class TestFilter(unittest.TestCase):
         self.assertEqual(gating["b"]["gated"] + gating["a"]["gated"], 1)
         self.assertGreaterEqual(gating["b"]["checked"], 1)
 
+    def test_registration_prior_scales_to_the_views_offsets(self):
+        # Six views whose offsets are five times the prior's σ (0.05 m): the prior's scale κ, learned
+        # from their disagreements, comes out near 25; with adaptation off it stays 1.
+        rng = np.random.default_rng(4)
+        offsets = 0.25 * rng.standard_normal((6, 3))
+        offsets[:, 2] = 0.0
+        time, view, obj, z = [], [], [], []
+        for k in range(30):
+            for i in range(4):
+                for v in range(6):
+                    time.append(0.1 * k)
+                    view.append(f"v{v}")
+                    obj.append(f"o{i}")
+                    z.append(np.array([3.0 * i + 0.1 * k, float(i), 0.0]) + offsets[v] + 0.01 * rng.standard_normal(3))
+        R = np.repeat((1e-4 * np.eye(3))[None], len(time), axis=0)
+        scales = {}
+        for adapt in ("true", "false"):
+            with tempfile.TemporaryDirectory() as folder:
+                config = os.path.join(folder, "prior.yaml")
+                with open(config, "w") as file:
+                    file.write("ours:\n  registration_translation_sigma_m: [0.05, 0.05, 0.0]\n"
+                               f"  registration_noise_ratio: 0.0\n  adapt_registration_prior: {adapt}\n")
+                f = stgf.Filter(config=config)
+            self.assertEqual(f.registration_prior_scale, 1.0)
+            f.fuse(time, view, obj, np.array(z), R)
+            scales[adapt] = f.registration_prior_scale
+        self.assertGreater(scales["true"], 8.0)
+        self.assertLess(scales["true"], 80.0)
+        self.assertEqual(scales["false"], 1.0)
+
     def test_bad_arrays_raise_value_error_naming_the_row(self):
         f = stgf.Filter()
         with self.assertRaisesRegex(ValueError, r"z has shape \(2, 2\) where \(2, 3\) was expected"):
