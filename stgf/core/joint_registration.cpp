@@ -29,6 +29,23 @@ struct ConditionalTerm {
   Vector3d w;
 };
 
+// A measurement's own term of the offsets' information, G_kᵀ W G_k and G_kᵀ W z_k, on its view's
+// blocks only (G_k = H_u × each block's basis): add_block(row start, column start, block) for the block
+// pairs of M's lower triangle, add_vector(row start, segment) for each block.
+template <class Blocks, class AddBlock, class AddVector>
+void add_own_terms(const Blocks& blocks, const Matrix36& h, const Matrix3d& weight, const Vector3d& z,
+                   AddBlock&& add_block, AddVector&& add_vector) {
+  for (const auto& row : blocks) {
+    const BlockColumns g_row = h * row.basis;
+    const BlockColumns weighted_row = weight * g_row;  // W G
+    add_vector(row.start, BlockVector(weighted_row.transpose() * z));
+    for (const auto& column : blocks) {
+      if (column.start > row.start) continue;
+      add_block(row.start, column.start, OffsetInformationBlock(weighted_row.transpose() * (h * column.basis)));
+    }
+  }
+}
+
 // The kernels below are written for a few right-hand sides (3 or 6) and c up to a few hundred, where
 // Eigen's blocked triangular solve and rank update spend more on packing than on arithmetic.
 
@@ -215,18 +232,16 @@ void JointRegistration::update(std::span<const Measurement* const> measurements,
     const Cholesky3 noise_factor(noise);
     if (!noise_factor.ok()) throw std::runtime_error("registration: a measurement's covariance is not positive definite");
     const Matrix3d noise_inverse = noise_factor.inverse();  // R_k⁻¹
-    // The view's own term: G_kᵀ R_k⁻¹ G_k and G_kᵀ R_k⁻¹ z_k, on its blocks only (lower triangle of M).
+    // The view's own term: G_kᵀ R_k⁻¹ G_k and G_kᵀ R_k⁻¹ z_k (lower triangle of M).
     if (views[k] != nullptr) {
-      for (const OffsetBlock& row_block : views[k]->blocks) {
-        const BlockColumns g_row = h * row_block.basis;
-        const BlockColumns whitened_row = noise_inverse * g_row;  // R⁻¹ G
-        information_vector.segment(row_block.start, g_row.cols()).noalias() += whitened_row.transpose() * z;
-        for (const OffsetBlock& column_block : views[k]->blocks) {
-          if (column_block.start > row_block.start) continue;
-          information.block(row_block.start, column_block.start, g_row.cols(), column_block.basis.cols()).noalias() +=
-              whitened_row.transpose() * (h * column_block.basis);
-        }
-      }
+      add_own_terms(
+          views[k]->blocks, h, noise_inverse, z,
+          [&information](Eigen::Index row, Eigen::Index column, const OffsetInformationBlock& block) {
+            information.block(row, column, block.rows(), block.cols()) += block;
+          },
+          [&information_vector](Eigen::Index row, const BlockVector& segment) {
+            information_vector.segment(row, segment.size()) += segment;
+          });
     }
     // a_i given β: z_k − (B_i + G_k) β = a_i + e_k.
     const Matrix3X c = measurement_offsets(object, views[k], h);
@@ -255,14 +270,17 @@ void JointRegistration::observe_differences(std::span<const Measurement* const> 
   // across views; Fᵀ S⁻¹ F = XᵀX with X = L_S⁻¹ F.
   struct Segment {
     Eigen::Index start;
-    BlockColumns g;         // G_k on this block
     BlockColumns weighted;  // W_k G_k, then X on this block
-    std::size_t measurement;
   };
   std::vector<Segment> segments;
   segments.reserve(measurements.size());
-  std::vector<Matrix3d> weights(measurements.size());  // W_k
-  std::vector<Vector3d> corrected(measurements.size());  // c_k = z_k − G_k β̂
+  struct Term {
+    const ViewBlocks* view;
+    Matrix36 h;
+    Matrix3d weight;     // W_k
+    Vector3d corrected;  // c_k = z_k − G_k β̂
+  };
+  std::vector<Term> terms(measurements.size());
   Matrix3d s = Matrix3d::Zero();
   Vector3d y = Vector3d::Zero(), corrected_sum = Vector3d::Zero();
   // β̂ as last factored (before this event's updates; coordinates added since count as zero): only
@@ -274,18 +292,17 @@ void JointRegistration::observe_differences(std::span<const Measurement* const> 
     if (view == nullptr) throw std::logic_error("JointRegistration::observe_differences: a view not yet in β");
     const Cholesky3 noise_factor(noise_scales[k] * measurement.position.covariance());
     if (!noise_factor.ok()) throw std::runtime_error("registration: a measurement's covariance is not positive definite");
-    weights[k] = noise_factor.inverse();
     const Vector3d& z = measurement.position.mean();
-    const Matrix36 h = offset_jacobian(measurement.position.covariance());
-    corrected[k] = z;
+    Term& term = terms[k];
+    term = Term{view, offset_jacobian(measurement.position.covariance()), noise_factor.inverse(), z};
     for (const OffsetBlock& block : view->blocks) {
-      const BlockColumns g = h * block.basis;
-      segments.push_back(Segment{block.start, g, weights[k] * g, k});
-      if (block.start + g.cols() <= estimate.size()) corrected[k].noalias() -= g * estimate.segment(block.start, g.cols());
+      const BlockColumns g = term.h * block.basis;
+      segments.push_back(Segment{block.start, term.weight * g});
+      if (block.start + g.cols() <= estimate.size()) term.corrected.noalias() -= g * estimate.segment(block.start, g.cols());
     }
-    s += weights[k];
-    y.noalias() += weights[k] * z;
-    corrected_sum.noalias() += weights[k] * corrected[k];
+    s += term.weight;
+    y.noalias() += term.weight * z;
+    corrected_sum.noalias() += term.weight * term.corrected;
   }
   const Cholesky3 s_factor(s);
   if (!s_factor.ok()) throw std::runtime_error("registration: the measurements' total information is not positive definite");
@@ -296,28 +313,27 @@ void JointRegistration::observe_differences(std::span<const Measurement* const> 
   // on κ; one far off with bias from every view alike (offsets larger than the prior) still counts.
   const Vector3d mean = s_factor.inverse() * corrected_sum;
   double disagreement = 0.0;
-  for (std::size_t k = 0; k < measurements.size(); ++k) {
-    const Vector3d residual = corrected[k] - mean;
-    disagreement += residual.dot(weights[k] * residual);
+  for (const Term& term : terms) {
+    const Vector3d residual = term.corrected - mean;
+    disagreement += residual.dot(term.weight * residual);
   }
   const double dimensions = 3.0 * static_cast<double>(measurements.size() - 1);
   const double limit = RegistrationPriorScale::kDisagreementTolerance * dimensions;
   const double omega = disagreement > limit ? limit / disagreement : 1.0;
   const Matrix3d whitening = s_factor.inverse_factor();  // L_S⁻¹
   const Vector3d w = whitening * y;
-  for (std::size_t a = 0; a < segments.size(); ++a) {
-    const Segment& row = segments[a];
-    const Vector3d& z = measurements[row.measurement]->position.mean();
-    const BlockVector own = row.weighted.transpose() * z;  // G_kᵀ W_k z_k
-    // Σ_k G_kᵀ W_k G_k: the blocks of one measurement, lower triangle.
-    for (std::size_t b = 0; b < segments.size(); ++b) {
-      const Segment& column = segments[b];
-      if (column.measurement != row.measurement || row.start < column.start) continue;
-      const OffsetInformationBlock product = omega * (row.g.transpose() * column.weighted);
-      prior_scale_.add_information(row.start, column.start, product);
-    }
-    const BlockVector scaled_own = omega * own;
-    prior_scale_.add_vector(row.start, scaled_own);
+  // Σ_k G_kᵀ W_k G_k and Σ_k G_kᵀ W_k z_k, each measurement on its own view's blocks, as in update().
+  for (std::size_t k = 0; k < measurements.size(); ++k) {
+    add_own_terms(
+        terms[k].view->blocks, terms[k].h, terms[k].weight, measurements[k]->position.mean(),
+        [this, omega](Eigen::Index row, Eigen::Index column, const OffsetInformationBlock& block) {
+          const OffsetInformationBlock weighted = omega * block;
+          prior_scale_.add_information(row, column, weighted);
+        },
+        [this, omega](Eigen::Index row, const BlockVector& segment) {
+          const BlockVector weighted = omega * segment;
+          prior_scale_.add_vector(row, weighted);
+        });
   }
   for (Segment& segment : segments) {
     segment.weighted = whitening * segment.weighted;  // X on this block
