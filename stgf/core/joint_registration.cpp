@@ -70,7 +70,8 @@ Eigen::Matrix<double, Rows, Rows> inverse_quadratic_form(const Eigen::MatrixXd& 
 }
 
 // The lower triangle of M gets Aᵀᵀ Aᵀ − Bᵀᵀ Bᵀ (two rank-3 terms, given as c × 3 matrices).
-void add_rank3_difference(Eigen::MatrixXd& lower, const MatrixX3& added, const MatrixX3& subtracted) {
+template <class Added, class Subtracted>
+void add_rank3_difference(Eigen::MatrixXd& lower, const Added& added, const Subtracted& subtracted) {
   const Eigen::Index size = lower.rows();
   for (Eigen::Index j = 0; j < size; ++j) {
     const Eigen::Index n = size - j;
@@ -79,6 +80,12 @@ void add_rank3_difference(Eigen::MatrixXd& lower, const MatrixX3& added, const M
                             subtracted.col(1).tail(n) * subtracted(j, 1) - subtracted.col(2).tail(n) * subtracted(j, 2);
   }
 }
+
+// Pending rank-3 terms folded with Eigen's blocked rank update from this many columns on; fewer (a
+// small event) take the column axpys above, which cost less there.
+constexpr Eigen::Index kBlockedFoldColumns = 24;
+// At most this many pending columns (128 objects' updates): memory 2 · 8 · c · 384 bytes.
+constexpr std::size_t kMaxPendingColumns = 384;
 
 }  // namespace
 
@@ -92,6 +99,7 @@ const JointRegistration::ViewBlocks* JointRegistration::view_blocks(std::string_
 
 void JointRegistration::add_block(ViewBlocks& view, const Eigen::Matrix<double, 6, Eigen::Dynamic>& directions,
                                   const Eigen::MatrixXd& covariance, bool scaled) {
+  fold_pending_terms();  // their columns have β's present size
   // covariance = U diag(λ) Uᵀ; the block holds the coordinates along the eigenvectors with λ > 0.
   const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eigen(covariance);
   const Eigen::VectorXd& values = eigen.eigenvalues();
@@ -211,54 +219,93 @@ void JointRegistration::update(std::span<const Measurement* const> measurements,
   for (const Measurement* measurement : measurements) {
     if (measurement->object != name) throw std::logic_error("JointRegistration::update: measurements of several objects");
   }
-  if (!has_object(name)) throw std::logic_error("JointRegistration::update: unknown object");
+  const auto found = objects_.find(name);
+  if (found == objects_.end()) throw std::logic_error("JointRegistration::update: unknown object");
   std::vector<const ViewBlocks*> views;  // first: β has its final size before any term is formed
   for (const Measurement* measurement : measurements) views.push_back(add_view(measurement->view));
-  ObjectState& object = objects_.find(name)->second;
-  const auto conditional_term = [&object]() {
-    const Cholesky3 factor(object.covariance);
-    if (!factor.ok()) throw std::runtime_error("registration: a position's covariance is not positive definite");
-    const Matrix3d inverse_factor = factor.inverse_factor();  // L_P⁻¹
-    return ConditionalTerm{(inverse_factor.lazyProduct(object.offsets)).transpose(), inverse_factor * object.mean};
-  };
-  const ConditionalTerm before = conditional_term();
-  Eigen::MatrixXd& information = offsets_information_;
+  ObjectState& object = found->second;
+  // Before: the conditional's information P⁻¹ = FᵀF with F = L_P⁻¹, and its term (F B)ᵀ, F â.
+  const Cholesky3 prior_factor(object.covariance);
+  if (!prior_factor.ok()) throw std::runtime_error("registration: a position's covariance is not positive definite");
+  const Matrix3d prior_whitening = prior_factor.inverse_factor();  // F
+  const ConditionalTerm before{prior_whitening.lazyProduct(object.offsets).transpose(), prior_whitening * object.mean};
+  const Matrix3d prior_information = prior_whitening.transpose() * prior_whitening;  // P⁻¹
+  Matrix3d information = prior_information;           // then P'⁻¹
+  Vector3d information_mean = information * object.mean;  // P⁻¹ â, then P'⁻¹ â'
+  Eigen::MatrixXd& information_matrix = offsets_information_;  // the own terms add to it at once (pending ones commute)
   Eigen::VectorXd& information_vector = offsets_information_vector_;
+  std::vector<Matrix3d> noise_inverses(measurements.size());
+  std::vector<Matrix36> jacobians(measurements.size());
   for (std::size_t k = 0; k < measurements.size(); ++k) {
     const Measurement& measurement = *measurements[k];
-    const Matrix3d noise = noise_scales[k] * measurement.position.covariance();  // R_k
     const Vector3d& z = measurement.position.mean();
-    const Matrix36 h = offset_jacobian(measurement.position.covariance());
-    const Cholesky3 noise_factor(noise);
+    jacobians[k] = offset_jacobian(measurement.position.covariance());
+    const Cholesky3 noise_factor(noise_scales[k] * measurement.position.covariance());  // R_k
     if (!noise_factor.ok()) throw std::runtime_error("registration: a measurement's covariance is not positive definite");
-    const Matrix3d noise_inverse = noise_factor.inverse();  // R_k⁻¹
+    noise_inverses[k] = noise_factor.inverse();  // R_k⁻¹
     // The view's own term: G_kᵀ R_k⁻¹ G_k and G_kᵀ R_k⁻¹ z_k (lower triangle of M).
     if (views[k] != nullptr) {
       add_own_terms(
-          views[k]->blocks, h, noise_inverse, z,
-          [&information](Eigen::Index row, Eigen::Index column, const OffsetInformationBlock& block) {
-            information.block(row, column, block.rows(), block.cols()) += block;
+          views[k]->blocks, jacobians[k], noise_inverses[k], z,
+          [&information_matrix](Eigen::Index row, Eigen::Index column, const OffsetInformationBlock& block) {
+            information_matrix.block(row, column, block.rows(), block.cols()) += block;
           },
           [&information_vector](Eigen::Index row, const BlockVector& segment) {
             information_vector.segment(row, segment.size()) += segment;
           });
     }
-    // a_i given β: z_k − (B_i + G_k) β = a_i + e_k.
-    const Matrix3X c = measurement_offsets(object, views[k], h);
-    const Cholesky3 t_factor(symmetrised(object.covariance + noise));  // T = P_i + R_k
-    if (!t_factor.ok()) throw std::runtime_error("registration: P + R not positive definite");
-    const Matrix3d gain = object.covariance * t_factor.inverse();  // P_i T⁻¹
-    object.mean += gain * (z - object.mean);
-    object.offsets -= gain.lazyProduct(c);
-    object.spread_version = 0;
-    object.covariance = symmetrised(object.covariance - gain * object.covariance);
+    information += noise_inverses[k];
+    information_mean.noalias() += noise_inverses[k] * z;
   }
-  // β: the conditional's term before, less the term after.
-  const ConditionalTerm after = conditional_term();
-  add_rank3_difference(information, before.u_transposed, after.u_transposed);
+  // a_i given β, all measurements at once (z_k − (B_i + G_k) β = a_i + e_k):
+  //   P' = (P⁻¹ + Σ R_k⁻¹)⁻¹,  â' = P' (P⁻¹ â + Σ R_k⁻¹ z_k),  B' = P' P⁻¹ B − Σ_k P' R_k⁻¹ G_k,
+  // the last since p_i = a_i + B β: B − P' Σ R_k⁻¹ (B + G_k) = P' (P'⁻¹ − Σ R_k⁻¹) B − … .
+  const Cholesky3 posterior_factor(information);  // P'⁻¹ = L Lᵀ
+  if (!posterior_factor.ok()) throw std::runtime_error("registration: a position's information is not positive definite");
+  const Matrix3d covariance = symmetrised(posterior_factor.inverse());  // P'
+  object.offsets = ((covariance * prior_information) * object.offsets).eval();
+  for (std::size_t k = 0; k < measurements.size(); ++k) {
+    if (views[k] == nullptr) continue;
+    const Matrix3d gain = covariance * noise_inverses[k];  // P' R_k⁻¹
+    for (const OffsetBlock& block : views[k]->blocks) {
+      object.offsets.middleCols(block.start, block.basis.cols()).noalias() -= gain * (jacobians[k] * block.basis);
+    }
+  }
+  object.mean = covariance * information_mean;
+  object.covariance = covariance;
+  object.spread_version = 0;
+  // After: P'⁻¹ = L Lᵀ, so F' = Lᵀ: the term (Lᵀ B')ᵀ = B'ᵀ L and Lᵀ â'.
+  const Matrix3d posterior_whitening = posterior_factor.matrix_l().transpose();
+  const ConditionalTerm after{posterior_whitening.lazyProduct(object.offsets).transpose(), posterior_whitening * object.mean};
+  // β: the conditional's term before, less the term after (M's part pending until M is next read).
+  pending_added_.insert(pending_added_.end(), before.u_transposed.data(),
+                        before.u_transposed.data() + before.u_transposed.size());
+  pending_subtracted_.insert(pending_subtracted_.end(), after.u_transposed.data(),
+                             after.u_transposed.data() + after.u_transposed.size());
   information_vector.noalias() -= before.u_transposed * before.w;
   information_vector.noalias() += after.u_transposed * after.w;
   ++version_;
+  if (pending_added_.size() >= kMaxPendingColumns * static_cast<std::size_t>(information_vector.size())) {
+    fold_pending_terms();
+  }
+}
+
+void JointRegistration::fold_pending_terms() const {
+  if (pending_added_.empty()) return;
+  const Eigen::Index size = offsets_information_.rows();
+  const auto columns = static_cast<Eigen::Index>(pending_added_.size()) / size;
+  const Eigen::Map<const Eigen::MatrixXd> added(pending_added_.data(), size, columns);
+  const Eigen::Map<const Eigen::MatrixXd> subtracted(pending_subtracted_.data(), size, columns);
+  if (columns < kBlockedFoldColumns) {
+    for (Eigen::Index first = 0; first < columns; first += 3) {
+      add_rank3_difference(offsets_information_, added.middleCols<3>(first), subtracted.middleCols<3>(first));
+    }
+  } else {
+    offsets_information_.selfadjointView<Eigen::Lower>().rankUpdate(added, 1.0);
+    offsets_information_.selfadjointView<Eigen::Lower>().rankUpdate(subtracted, -1.0);
+  }
+  pending_added_.clear();
+  pending_subtracted_.clear();
 }
 
 void JointRegistration::observe_differences(std::span<const Measurement* const> measurements,
@@ -369,6 +416,7 @@ Eigen::Matrix<double, 6, 6> JointRegistration::prior_covariance() const { return
 void JointRegistration::refresh() const {
   if (factored_version_ == version_) return;
   factored_version_ = version_;
+  fold_pending_terms();
   if (offsets_information_vector_.size() == 0) {
     offsets_mean_.resize(0);
     return;
@@ -405,6 +453,41 @@ Gaussian3 JointRegistration::position(std::string_view object) const {
   }
   return Gaussian3::from_covariance(state.mean + state.offsets * offsets_mean_,
                                     symmetrised(state.covariance + state.offsets_spread));
+}
+
+std::vector<Gaussian3> JointRegistration::positions(std::span<const std::string_view> objects) const {
+  refresh();
+  // The objects whose spread is stale, each once: B_iᵀ side by side, whitened by one solve with L.
+  std::vector<const ObjectState*> states, stale;
+  states.reserve(objects.size());
+  for (const std::string_view name : objects) {
+    const ObjectState& state = *states.emplace_back(&object_state(name));
+    if (state.spread_version == version_) continue;
+    state.spread_version = version_;
+    stale.push_back(&state);
+  }
+  const Eigen::Index size = offsets_information_vector_.size();
+  if (size > 0 && static_cast<Eigen::Index>(3 * stale.size()) >= kBlockedFoldColumns) {
+    Eigen::MatrixXd whitened(size, static_cast<Eigen::Index>(3 * stale.size()));
+    for (std::size_t s = 0; s < stale.size(); ++s) {
+      whitened.middleCols<3>(static_cast<Eigen::Index>(3 * s)) = stale[s]->offsets.transpose();
+    }
+    offsets_factor_.matrixL().solveInPlace(whitened);  // L⁻¹ Bᵀ
+    for (std::size_t s = 0; s < stale.size(); ++s) {
+      const auto block = whitened.middleCols<3>(static_cast<Eigen::Index>(3 * s));
+      stale[s]->offsets_spread = block.transpose() * block;
+    }
+  } else {
+    for (const ObjectState* state : stale) state->offsets_spread = quadratic_form(state->offsets);
+  }
+  // As position(): mean â_i + B_i β̂, covariance P_i + B_i Σ_β B_iᵀ.
+  std::vector<Gaussian3> result;
+  result.reserve(objects.size());
+  for (const ObjectState* state : states) {
+    result.push_back(Gaussian3::from_covariance(state->mean + state->offsets * offsets_mean_,
+                                                symmetrised(state->covariance + state->offsets_spread)));
+  }
+  return result;
 }
 
 Eigen::Matrix<double, 6, 1> JointRegistration::offset(std::string_view view) const {

@@ -30,8 +30,9 @@
 //               the first measurement alone says nothing of β
 //   predict     â_i += d, P_i += Q
 //   update      object i's measurements z_k = p_i + G_k β + e_k at one time (noise R_k = μ_k R):
-//                 a_i given β, each in turn (T = P_i + R_k, K = P_i T⁻¹):
-//                   â_i += K (z_k − â_i),  B_i −= K (B_i + G_k),  P_i −= K P_i
+//                 a_i given β, all at once (z_k − (B_i + G_k) β = a_i + e_k):
+//                   P' = (P⁻¹ + Σ_k R_k⁻¹)⁻¹,  â' = P' (P⁻¹ â + Σ_k R_k⁻¹ z_k),
+//                   B' = P' P⁻¹ B − Σ_k P' R_k⁻¹ G_k   (G_k is nonzero on view u's blocks only)
 //                 β: the joint information of (p_i, β) is the conditional's,
 //                   [P⁻¹, −P⁻¹B; −BᵀP⁻¹, BᵀP⁻¹B] (+ M on β), plus the measurements'; marginalising p_i
 //                   and writing the result with the new conditional (â', B', P'):
@@ -47,18 +48,19 @@
 // after it changes, and B Σ_β Bᵀ = ‖L⁻¹Bᵀ‖².
 //
 // Cost, with n the scene's views, c ≤ 6n the offsets' dimension, m the scene's objects and k the
-// measurements of an object at one time: an update costs O(k c) for the conditional and two rank-3
-// updates of M, O(c²), whatever k and m; reading a position or an innovation O(c²); refactoring M
+// measurements of an object at one time: an update costs O(c + k) for the conditional (B' is one
+// 3 × 3 product with B and a block per view) and two rank-3 terms of M, O(c²), whatever k and m —
+// kept pending and added for all of an event's objects at once, as two blocked rank updates; reading a position or an innovation O(c²); refactoring M
 // O(c³), once per event that changed it; predict O(1); memory O(c² + m c). So one event of m objects
 // each seen by k views costs O(m (k c + c²) + c³): linear in the views that see an object, and
 // independent of how many objects each view sees. (Updating Σ_β itself, measurement by measurement,
 // cost O(c²) per measurement, k times more; the dense joint covariance O((3m + c)²).)
 
 #include <cstdint>
-#include <map>
 #include <span>
 #include <string>
 #include <string_view>
+#include <unordered_map>
 #include <vector>
 
 #include <Eigen/Dense>
@@ -113,6 +115,10 @@ class JointRegistration {
   Eigen::Matrix<double, 6, 6> prior_covariance() const;
 
   Gaussian3 position(std::string_view object) const;  // the marginal of p_i
+  // position() of several objects at once, in their order. Their spreads B_i Σ_β B_iᵀ that M changed
+  // come from one blocked triangular solve with all their 3-column B_iᵀ as right-hand sides, BLAS-3
+  // work instead of one forward substitution per object: what an event of many objects needs.
+  std::vector<Gaussian3> positions(std::span<const std::string_view> objects) const;
   // A measurement alone, corrected by its view's offset: N(z − H_u β̂_u, μR + H_u Σ_uu H_uᵀ).
   Gaussian3 corrected(const Measurement& measurement, double noise_scale = 1.0) const;
   // The estimated offset of `view` and its covariance (prior for an unknown view).
@@ -157,15 +163,28 @@ class JointRegistration {
   Eigen::MatrixXd offset_selector(const ViewBlocks& view) const;
   // M Σ_β Mᵀ for 3 rows M (Σ_β through the factor of M).
   Matrix3d quadratic_form(const Eigen::Matrix<double, 3, Eigen::Dynamic>& rows) const;
-  // Factors M and solves for β̂, if M changed since.
+  // Factors M and solves for β̂, if M changed since (folding in the pending rank-3 terms first).
   void refresh() const;
+  // M += U₊U₊ᵀ − U₋U₋ᵀ over the pending columns; then none are pending.
+  void fold_pending_terms() const;
 
   RegistrationPrior prior_;
   Eigen::Matrix<double, 6, 6> prior_covariance_;  // Σ₀, as calibrated
   RegistrationPriorScale prior_scale_;
-  std::map<std::string, ObjectState, std::less<>> objects_;
-  std::map<std::string, ViewBlocks, std::less<>> views_;
-  Eigen::MatrixXd offsets_information_;         // M (its lower triangle)
+  // Looked up by name for every measurement: hashed, and by string_view without a copy. Nothing
+  // depends on their order.
+  struct NameHash {
+    using is_transparent = void;
+    std::size_t operator()(std::string_view name) const { return std::hash<std::string_view>{}(name); }
+  };
+  std::unordered_map<std::string, ObjectState, NameHash, std::equal_to<>> objects_;
+  std::unordered_map<std::string, ViewBlocks, NameHash, std::equal_to<>> views_;
+  // M (its lower triangle), less the pending terms of updates: each update's conditional terms before
+  // and after, M += U₊U₊ᵀ − U₋U₋ᵀ with U± = (L_P⁻¹ B)ᵀ (c × 3), are kept as columns (c each, column-major)
+  // and added when M is next factored or β grows, all at once: two blocked rank updates of M per event
+  // instead of a pass over M per object. At most kMaxPendingColumns are kept.
+  mutable Eigen::MatrixXd offsets_information_;
+  mutable std::vector<double> pending_added_, pending_subtracted_;
   Eigen::VectorXd offsets_information_vector_;  // m
   // Read through refresh(): the factor L of M and β̂, for the M they were made from.
   mutable Eigen::LLT<Eigen::MatrixXd, Eigen::Lower> offsets_factor_;

@@ -401,12 +401,17 @@ void SceneFilter::process_joint(Event& event) {
     }
   }
   if (options_.adapt_registration_prior) state_.joint.adapt_prior_scale();
-  for (const Checked& object : checked) {
+  std::vector<std::string_view> objects;
+  objects.reserve(checked.size());
+  for (const Checked& object : checked) objects.push_back(event.rows[object.first].measurement.object);
+  const std::vector<Gaussian3> estimates = state_.joint.positions(objects);
+  for (std::size_t i = 0; i < checked.size(); ++i) {
+    const Checked& object = checked[i];
     const std::span<Row> rows(event.rows.data() + object.first, object.end - object.first);
     ObjectTrack& track = *object.track;
     std::vector<bool> gated(rows.size());
     for (std::size_t k = 0; k < rows.size(); ++k) gated[k] = !object.decision.passes[k];
-    const Gaussian3 estimate = state_.joint.position(rows.front().measurement.object);
+    const Gaussian3& estimate = estimates[i];
     if (!track.has_frame()) track.open_frame(time);
     track.update(time, estimate);
     report(event, object.first, object.end, estimate, object.prediction, gated);

@@ -122,6 +122,17 @@ Matrix3d random_covariance(std::mt19937_64& random, double scale) {
 
 void expect_same_state(const JointRegistration& factored, const DenseJointRegistration& dense, const std::string& when) {
   SCOPED_TRACE(when);
+  // All positions at once (one blocked solve from 8 objects on), on a copy: the original below reads
+  // each alone.
+  const JointRegistration copy = factored;
+  std::vector<std::string_view> names;
+  for (const auto& [object, index] : dense.objects()) names.push_back(object);
+  const std::vector<Gaussian3> together = copy.positions(names);
+  for (std::size_t i = 0; i < names.size(); ++i) {
+    const std::string object(names[i]);
+    EXPECT_LE((together[i].mean() - dense.position_mean(object)).norm(), 1e-9) << object << " (all at once)";
+    EXPECT_LE((together[i].covariance() - dense.position_covariance(object)).norm(), 1e-9) << object << " (all at once)";
+  }
   for (const auto& [object, index] : dense.objects()) {
     const Gaussian3 p = factored.position(object);
     EXPECT_LE((p.mean() - dense.position_mean(object)).norm(), 1e-9) << object;
@@ -133,7 +144,7 @@ void expect_same_state(const JointRegistration& factored, const DenseJointRegist
   }
 }
 
-void run_scenario(const RegistrationPrior& prior, std::uint64_t seed) {
+void run_scenario(const RegistrationPrior& prior, std::uint64_t seed, int object_count = 4) {
   std::mt19937_64 random(seed);
   std::uniform_real_distribution<double> uniform(0.0, 1.0);
   std::normal_distribution<double> normal(0.0, 1.0);
@@ -144,7 +155,8 @@ void run_scenario(const RegistrationPrior& prior, std::uint64_t seed) {
     return Measurement{"s", 0.0, view, object, Gaussian3::from_covariance(z, random_covariance(random, 0.01)),
                        std::nullopt};
   };
-  const std::vector<std::string> objects = {"a", "b", "c", "d"};
+  std::vector<std::string> objects;
+  for (int i = 0; i < object_count; ++i) objects.push_back(std::string(1, static_cast<char>('a' + i)));
   std::vector<std::string> views = {"v0", "v1"};
   for (int step = 0; step < 30; ++step) {
     if (step == 8) views.push_back("v2");   // a view that appears late
@@ -221,6 +233,15 @@ TEST(JointRegistration, EqualsTheDenseJointKalmanFilterWithAPriorSingularOnZ) {
   prior.translation_sigma = Vector3d(0.1, 0.1, 0.0);  // as the benchmarks' ground-plane views
   prior.noise_ratio = 0.3;
   for (std::uint64_t seed : {4u, 5u}) run_scenario(prior, seed);
+}
+
+// Enough objects per step that an event's pending rank-3 terms are folded into M as blocked rank
+// updates and positions() solves for many objects at once.
+TEST(JointRegistration, EqualsTheDenseJointKalmanFilterWithManyObjects) {
+  RegistrationPrior prior;
+  prior.translation_sigma = Vector3d(0.2, 0.3, 0.1);
+  prior.noise_ratio = 0.5;
+  for (std::uint64_t seed : {6u, 7u}) run_scenario(prior, seed, 14);
 }
 
 TEST(JointRegistration, UnknownObjectsAreLogicErrors) {
