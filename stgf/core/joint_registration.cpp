@@ -60,15 +60,6 @@ void forward_substitute(const Eigen::MatrixXd& factor, Eigen::Matrix<double, Eig
   }
 }
 
-// M Σ Mᵀ = (L⁻¹ Mᵀ)ᵀ (L⁻¹ Mᵀ) for Σ = (L Lᵀ)⁻¹ and rows M.
-template <int Rows>
-Eigen::Matrix<double, Rows, Rows> inverse_quadratic_form(const Eigen::MatrixXd& factor,
-                                                         const Eigen::Matrix<double, Rows, Eigen::Dynamic>& rows) {
-  Eigen::Matrix<double, Eigen::Dynamic, Rows> whitened = rows.transpose();
-  forward_substitute(factor, whitened);
-  return whitened.transpose().lazyProduct(whitened);
-}
-
 // The lower triangle of M gets Aᵀᵀ Aᵀ − Bᵀᵀ Bᵀ (two rank-3 terms, given as c × 3 matrices).
 template <class Added, class Subtracted>
 void add_rank3_difference(Eigen::MatrixXd& lower, const Added& added, const Subtracted& subtracted) {
@@ -197,12 +188,21 @@ JointRegistration::Innovation JointRegistration::innovation(const Measurement& m
   const ViewBlocks* view = view_blocks(measurement.view);
   const Matrix3d& r = measurement.position.covariance();
   const Matrix36 h = offset_jacobian(r);
-  // ν = z − p̂_i − H_u β̂_u = z − â_i − C β̂,  S = P_i + C Σ_β Cᵀ + μR (+ H_u Σ_prior H_uᵀ for a view not yet seen).
-  const Matrix3X c = measurement_offsets(object, view, h);
+  // ν = z − p̂_i − H_u β̂_u = z − â_i − C β̂,  S = P_i + C Σ_β Cᵀ + μR (+ H_u Σ_prior H_uᵀ for a view not
+  // yet seen), C = B_i + H_u E_u: C Σ_β Cᵀ = ‖L⁻¹Cᵀ‖², L⁻¹Cᵀ = W_i + Y_u H_uᵀ.
   refresh();
-  Innovation result{measurement.position.mean() - object.mean - c * offsets_mean_,
-                    object.covariance + quadratic_form(c) + noise_scale * r};
-  if (view == nullptr && !prior_.is_zero()) result.covariance += h * prior_covariance() * h.transpose();
+  const ObjectState& current = whitened(object);
+  Innovation result{measurement.position.mean() - object.mean - object.offsets * offsets_mean_,
+                    object.covariance + noise_scale * r};
+  if (view != nullptr) {
+    result.value -= h * offset(measurement.view);
+    const Eigen::Matrix<double, Eigen::Dynamic, 3> whitened_rows =
+        current.whitened_offsets + whitened_selector(*view) * h.transpose();
+    result.covariance.noalias() += whitened_rows.transpose() * whitened_rows;
+  } else {
+    result.covariance += current.offsets_spread;
+    if (!prior_.is_zero()) result.covariance += h * prior_covariance() * h.transpose();
+  }
   result.covariance = symmetrised(result.covariance);
   return result;
 }
@@ -428,10 +428,24 @@ void JointRegistration::refresh() const {
   offsets_mean_ = offsets_factor_.solve(offsets_information_vector_);
 }
 
-Matrix3d JointRegistration::quadratic_form(const Matrix3X& rows) const {
+const JointRegistration::ObjectState& JointRegistration::whitened(const ObjectState& object) const {
   refresh();
-  if (rows.cols() == 0) return Matrix3d::Zero();
-  return inverse_quadratic_form<3>(offsets_factor_.matrixLLT(), rows);
+  if (object.spread_version == version_) return object;
+  object.spread_version = version_;
+  object.whitened_offsets = object.offsets.transpose();
+  if (object.whitened_offsets.rows() > 0) forward_substitute(offsets_factor_.matrixLLT(), object.whitened_offsets);
+  object.offsets_spread = object.whitened_offsets.transpose() * object.whitened_offsets;
+  return object;
+}
+
+const Eigen::Matrix<double, Eigen::Dynamic, 6>& JointRegistration::whitened_selector(const ViewBlocks& view) const {
+  refresh();
+  if (view.whitened_version != version_) {
+    view.whitened_version = version_;
+    view.whitened_selector = offset_selector(view).transpose();
+    if (view.whitened_selector.rows() > 0) forward_substitute(offsets_factor_.matrixLLT(), view.whitened_selector);
+  }
+  return view.whitened_selector;
 }
 
 Gaussian3 JointRegistration::corrected(const Measurement& measurement, double noise_scale) const {
@@ -446,11 +460,7 @@ Gaussian3 JointRegistration::corrected(const Measurement& measurement, double no
 Gaussian3 JointRegistration::position(std::string_view object) const {
   const ObjectState& state = object_state(object);
   // p_i = a_i + B_i β: mean â_i + B_i β̂, covariance P_i + B_i Σ_β B_iᵀ.
-  refresh();
-  if (state.spread_version != version_) {
-    state.offsets_spread = quadratic_form(state.offsets);
-    state.spread_version = version_;
-  }
+  whitened(state);
   return Gaussian3::from_covariance(state.mean + state.offsets * offsets_mean_,
                                     symmetrised(state.covariance + state.offsets_spread));
 }
@@ -463,7 +473,7 @@ std::vector<Gaussian3> JointRegistration::positions(std::span<const std::string_
   for (const std::string_view name : objects) {
     const ObjectState& state = *states.emplace_back(&object_state(name));
     if (state.spread_version == version_) continue;
-    state.spread_version = version_;
+    state.spread_version = version_;  // (made current below)
     stale.push_back(&state);
   }
   const Eigen::Index size = offsets_information_vector_.size();
@@ -474,11 +484,14 @@ std::vector<Gaussian3> JointRegistration::positions(std::span<const std::string_
     }
     offsets_factor_.matrixL().solveInPlace(whitened);  // L⁻¹ Bᵀ
     for (std::size_t s = 0; s < stale.size(); ++s) {
-      const auto block = whitened.middleCols<3>(static_cast<Eigen::Index>(3 * s));
-      stale[s]->offsets_spread = block.transpose() * block;
+      stale[s]->whitened_offsets = whitened.middleCols<3>(static_cast<Eigen::Index>(3 * s));
+      stale[s]->offsets_spread = stale[s]->whitened_offsets.transpose() * stale[s]->whitened_offsets;
     }
   } else {
-    for (const ObjectState* state : stale) state->offsets_spread = quadratic_form(state->offsets);
+    for (const ObjectState* state : stale) {
+      state->spread_version = 0;
+      whitened(*state);
+    }
   }
   // As position(): mean â_i + B_i β̂, covariance P_i + B_i Σ_β B_iᵀ.
   std::vector<Gaussian3> result;
@@ -506,8 +519,8 @@ Eigen::Matrix<double, 6, 6> JointRegistration::offset_covariance(std::string_vie
   if (blocks == nullptr) return prior_covariance();
   refresh();
   if (offsets_information_vector_.size() == 0) return Eigen::Matrix<double, 6, 6>::Zero();
-  const Eigen::Matrix<double, 6, Eigen::Dynamic> selector = offset_selector(*blocks);
-  return inverse_quadratic_form<6>(offsets_factor_.matrixLLT(), selector);
+  const Eigen::Matrix<double, Eigen::Dynamic, 6>& whitened = whitened_selector(*blocks);  // Y_u
+  return whitened.transpose() * whitened;
 }
 
 }  // namespace stgf

@@ -50,7 +50,8 @@
 // Cost, with n the scene's views, c ≤ 6n the offsets' dimension, m the scene's objects and k the
 // measurements of an object at one time: an update costs O(c + k) for the conditional (B' is one
 // 3 × 3 product with B and a block per view) and two rank-3 terms of M, O(c²), whatever k and m —
-// kept pending and added for all of an event's objects at once, as two blocked rank updates; reading a position or an innovation O(c²); refactoring M
+// kept pending and added for all of an event's objects at once, as two blocked rank updates; reading a position O(c²) (an event's positions in one blocked solve), an innovation O(c) after
+// it (the view's L⁻¹E_uᵀ is kept per factorisation); refactoring M
 // O(c³), once per event that changed it; predict O(1); memory O(c² + m c). So one event of m objects
 // each seen by k views costs O(m (k c + c²) + c³): linear in the views that see an object, and
 // independent of how many objects each view sees. (Updating Σ_β itself, measurement by measurement,
@@ -133,7 +134,9 @@ class JointRegistration {
     Vector3d mean;
     Matrix3d covariance;
     Eigen::Matrix<double, 3, Eigen::Dynamic> offsets;  // B_i (3 × 6n)
-    // B_i Σ_β B_iᵀ, for the M of version `spread_version` (0: not computed since B_i changed).
+    // For the M of version `spread_version` (0: not computed since B_i changed): W_i = L⁻¹ B_iᵀ
+    // (c × 3) and B_i Σ_β B_iᵀ = W_iᵀ W_i.
+    mutable Eigen::Matrix<double, Eigen::Dynamic, 3> whitened_offsets;
     mutable Matrix3d offsets_spread = Matrix3d::Zero();
     mutable std::uint64_t spread_version = 0;
   };
@@ -147,6 +150,10 @@ class JointRegistration {
   // translation jumps released since (only the directions of W's range).
   struct ViewBlocks {
     std::vector<OffsetBlock> blocks;
+    // Y_u = L⁻¹ E_uᵀ (c × 6) for the M of version `whitened_version` (0: none): Σ_uu = Y_uᵀ Y_u,
+    // and a measurement's C Σ_β Cᵀ = ‖W_i + Y_u H_uᵀ‖² in O(c).
+    mutable Eigen::Matrix<double, Eigen::Dynamic, 6> whitened_selector;
+    mutable std::uint64_t whitened_version = 0;
   };
   const ViewBlocks* add_view(std::string_view view);  // none for a zero prior
   const ViewBlocks* view_blocks(std::string_view view) const;  // none when unknown
@@ -161,8 +168,9 @@ class JointRegistration {
                                                                const Eigen::Matrix<double, 3, 6>& h) const;
   // E_u with view u's offset t_u + Σ jumps, δ_u = E_u β (6 × size of β).
   Eigen::MatrixXd offset_selector(const ViewBlocks& view) const;
-  // M Σ_β Mᵀ for 3 rows M (Σ_β through the factor of M).
-  Matrix3d quadratic_form(const Eigen::Matrix<double, 3, Eigen::Dynamic>& rows) const;
+  // The object's W_i and B_i Σ_β B_iᵀ, and the view's Y_u, made current (M factored).
+  const ObjectState& whitened(const ObjectState& object) const;
+  const Eigen::Matrix<double, Eigen::Dynamic, 6>& whitened_selector(const ViewBlocks& view) const;
   // Factors M and solves for β̂, if M changed since (folding in the pending rank-3 terms first).
   void refresh() const;
   // M += U₊U₊ᵀ − U₋U₋ᵀ over the pending columns; then none are pending.
