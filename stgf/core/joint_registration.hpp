@@ -136,7 +136,7 @@ class JointRegistration {
     Eigen::Matrix<double, 3, Eigen::Dynamic> offsets;  // B_i (3 × 6n)
     // For the M of version `spread_version` (0: not computed since B_i changed): W_i = L⁻¹ B_iᵀ
     // (c × 3) and B_i Σ_β B_iᵀ = W_iᵀ W_i.
-    mutable Eigen::Matrix<double, Eigen::Dynamic, 3> whitened_offsets;
+    mutable Eigen::Matrix<double, Eigen::Dynamic, 3> whitened_offsets{};
     mutable Matrix3d offsets_spread = Matrix3d::Zero();
     mutable std::uint64_t spread_version = 0;
   };
