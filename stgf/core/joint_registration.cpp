@@ -81,7 +81,11 @@ constexpr std::size_t kMaxPendingColumns = 384;
 }  // namespace
 
 JointRegistration::JointRegistration(const RegistrationPrior& prior)
-    : prior_(prior), prior_covariance_(prior.covariance()) {}
+    : prior_(prior), prior_covariance_(prior.covariance()) {
+  // Eigen's default LLT leaves its status uninitialised, and copying the registration (a checkpoint)
+  // would read it: start from the factor of the empty M.
+  offsets_factor_.compute(Eigen::MatrixXd(0, 0));
+}
 
 const JointRegistration::ViewBlocks* JointRegistration::view_blocks(std::string_view view) const {
   const auto found = views_.find(view);
