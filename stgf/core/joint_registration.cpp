@@ -72,9 +72,10 @@ void add_rank3_difference(Eigen::MatrixXd& lower, const Added& added, const Subt
   }
 }
 
-// Pending rank-3 terms folded with Eigen's blocked rank update from this many columns on; fewer (a
-// small event) take the column axpys above, which cost less there.
-constexpr Eigen::Index kBlockedFoldColumns = 24;
+// Eigen's blocked kernels (rank update of M, triangular solve) from this many columns on — pending
+// rank-3 terms, or 3 per object whose position is read; fewer (a small event) take the column kernels
+// above, which cost less there.
+constexpr Eigen::Index kBlockedColumns = 24;
 // At most this many pending columns (128 objects' updates): memory 2 · 8 · c · 384 bytes.
 constexpr std::size_t kMaxPendingColumns = 384;
 
@@ -199,7 +200,7 @@ JointRegistration::Innovation JointRegistration::innovation(const Measurement& m
   Innovation result{measurement.position.mean() - object.mean - object.offsets * offsets_mean_,
                     object.covariance + noise_scale * r};
   if (view != nullptr) {
-    result.value -= h * offset(measurement.view);
+    result.value -= h * offset_mean(*view);
     const Eigen::Matrix<double, Eigen::Dynamic, 3> whitened_rows =
         current.whitened_offsets + whitened_selector(*view) * h.transpose();
     result.covariance.noalias() += whitened_rows.transpose() * whitened_rows;
@@ -300,7 +301,7 @@ void JointRegistration::fold_pending_terms() const {
   const auto columns = static_cast<Eigen::Index>(pending_added_.size()) / size;
   const Eigen::Map<const Eigen::MatrixXd> added(pending_added_.data(), size, columns);
   const Eigen::Map<const Eigen::MatrixXd> subtracted(pending_subtracted_.data(), size, columns);
-  if (columns < kBlockedFoldColumns) {
+  if (columns < kBlockedColumns) {
     for (Eigen::Index first = 0; first < columns; first += 3) {
       add_rank3_difference(offsets_information_, added.middleCols<3>(first), subtracted.middleCols<3>(first));
     }
@@ -461,13 +462,14 @@ Gaussian3 JointRegistration::corrected(const Measurement& measurement, double no
                                     noise_scale * r + h * offset_covariance(measurement.view) * h.transpose());
 }
 
-Gaussian3 JointRegistration::position(std::string_view object) const {
-  const ObjectState& state = object_state(object);
+Gaussian3 JointRegistration::marginal(const ObjectState& object) const {
   // p_i = a_i + B_i β: mean â_i + B_i β̂, covariance P_i + B_i Σ_β B_iᵀ.
-  whitened(state);
-  return Gaussian3::from_covariance(state.mean + state.offsets * offsets_mean_,
-                                    symmetrised(state.covariance + state.offsets_spread));
+  const ObjectState& current = whitened(object);
+  return Gaussian3::from_covariance(current.mean + current.offsets * offsets_mean_,
+                                    symmetrised(current.covariance + current.offsets_spread));
 }
+
+Gaussian3 JointRegistration::position(std::string_view object) const { return marginal(object_state(object)); }
 
 std::vector<Gaussian3> JointRegistration::positions(std::span<const std::string_view> objects) const {
   refresh();
@@ -476,12 +478,10 @@ std::vector<Gaussian3> JointRegistration::positions(std::span<const std::string_
   states.reserve(objects.size());
   for (const std::string_view name : objects) {
     const ObjectState& state = *states.emplace_back(&object_state(name));
-    if (state.spread_version == version_) continue;
-    state.spread_version = version_;  // (made current below)
-    stale.push_back(&state);
+    if (state.spread_version != version_) stale.push_back(&state);
   }
   const Eigen::Index size = offsets_information_vector_.size();
-  if (size > 0 && static_cast<Eigen::Index>(3 * stale.size()) >= kBlockedFoldColumns) {
+  if (size > 0 && static_cast<Eigen::Index>(3 * stale.size()) >= kBlockedColumns) {
     Eigen::MatrixXd whitened(size, static_cast<Eigen::Index>(3 * stale.size()));
     for (std::size_t s = 0; s < stale.size(); ++s) {
       whitened.middleCols<3>(static_cast<Eigen::Index>(3 * s)) = stale[s]->offsets.transpose();
@@ -490,29 +490,24 @@ std::vector<Gaussian3> JointRegistration::positions(std::span<const std::string_
     for (std::size_t s = 0; s < stale.size(); ++s) {
       stale[s]->whitened_offsets = whitened.middleCols<3>(static_cast<Eigen::Index>(3 * s));
       stale[s]->offsets_spread = stale[s]->whitened_offsets.transpose() * stale[s]->whitened_offsets;
-    }
-  } else {
-    for (const ObjectState* state : stale) {
-      state->spread_version = 0;
-      whitened(*state);
+      stale[s]->spread_version = version_;
     }
   }
-  // As position(): mean â_i + B_i β̂, covariance P_i + B_i Σ_β B_iᵀ.
   std::vector<Gaussian3> result;
   result.reserve(objects.size());
-  for (const ObjectState* state : states) {
-    result.push_back(Gaussian3::from_covariance(state->mean + state->offsets * offsets_mean_,
-                                                symmetrised(state->covariance + state->offsets_spread)));
-  }
+  for (const ObjectState* state : states) result.push_back(marginal(*state));  // whitens what is left
   return result;
 }
 
 Eigen::Matrix<double, 6, 1> JointRegistration::offset(std::string_view view) const {
   const ViewBlocks* blocks = view_blocks(view);
-  Eigen::Matrix<double, 6, 1> result = Eigen::Matrix<double, 6, 1>::Zero();
-  if (blocks == nullptr) return result;
+  return blocks == nullptr ? Eigen::Matrix<double, 6, 1>::Zero() : offset_mean(*blocks);
+}
+
+Eigen::Matrix<double, 6, 1> JointRegistration::offset_mean(const ViewBlocks& view) const {
   refresh();
-  for (const OffsetBlock& block : blocks->blocks) {
+  Eigen::Matrix<double, 6, 1> result = Eigen::Matrix<double, 6, 1>::Zero();
+  for (const OffsetBlock& block : view.blocks) {
     result.noalias() += block.basis * offsets_mean_.segment(block.start, block.basis.cols());
   }
   return result;

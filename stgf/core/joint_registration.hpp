@@ -50,11 +50,12 @@
 // Cost, with n the scene's views, c ≤ 6n the offsets' dimension, m the scene's objects and k the
 // measurements of an object at one time: an update costs O(c + k) for the conditional (B' is one
 // 3 × 3 product with B and a block per view) and two rank-3 terms of M, O(c²), whatever k and m —
-// kept pending and added for all of an event's objects at once, as two blocked rank updates; reading a position O(c²) (an event's positions in one blocked solve), an innovation O(c) after
-// it (the view's L⁻¹E_uᵀ is kept per factorisation); refactoring M
-// O(c³), once per event that changed it; predict O(1); memory O(c² + m c). So one event of m objects
-// each seen by k views costs O(m (k c + c²) + c³): linear in the views that see an object, and
-// independent of how many objects each view sees. (Updating Σ_β itself, measurement by measurement,
+// kept pending and added for all of an event's objects at once, as two blocked rank updates; reading
+// a position O(c²) (an event's positions in one blocked solve), an innovation O(c) after it (the
+// view's L⁻¹E_uᵀ is kept per factorisation); refactoring M O(c³), once per event that changed it;
+// predict O(1); memory O(c² + m c). So one event of m objects each seen by k views costs
+// O(m (k + c²) + c³): linear in the views that see an object, and independent of how many objects
+// each view sees. (Updating Σ_β itself, measurement by measurement,
 // cost O(c²) per measurement, k times more; the dense joint covariance O((3m + c)²).)
 
 #include <cstdint>
@@ -170,6 +171,8 @@ class JointRegistration {
   Eigen::MatrixXd offset_selector(const ViewBlocks& view) const;
   // The object's W_i and B_i Σ_β B_iᵀ, and the view's Y_u, made current (M factored).
   const ObjectState& whitened(const ObjectState& object) const;
+  Gaussian3 marginal(const ObjectState& object) const;  // of p_i, as position()
+  Eigen::Matrix<double, 6, 1> offset_mean(const ViewBlocks& view) const;  // as offset()
   const Eigen::Matrix<double, Eigen::Dynamic, 6>& whitened_selector(const ViewBlocks& view) const;
   // Factors M and solves for β̂, if M changed since (folding in the pending rank-3 terms first).
   void refresh() const;
