@@ -13,9 +13,6 @@
 #include <stdexcept>
 
 #include <spdlog/spdlog.h>
-#ifdef __GLIBC__
-#include <malloc.h>
-#endif
 
 #include "block_method.hpp"
 #include "commands.hpp"
@@ -115,7 +112,6 @@ void run(const RunOptions& options) {
   EstimateOutput output(options.out, options.method);
   std::size_t scenes = 0;
   std::size_t steps = 0;
-  [[maybe_unused]] std::size_t scenes_since_trim = 0;
   MeasurementFile block;
   while (const std::size_t read = reader.read(block, method->scenes_per_block())) {
     scenes += read;
@@ -127,15 +123,6 @@ void run(const RunOptions& options) {
       throw InputError(options.measurements, block.lines.at(late.id()), late.what());
     }
     output.write(estimates, block);
-#ifdef __GLIBC__
-    // Every kScenesPerFilterBlock scenes, the memory freed goes back to the system, so that the next
-    // blocks' peak does not stack on the fragments of the last ones (ours on the mpl test split: 271 ->
-    // 255 MB). Not after every scene: each trim walks the heap (sttp, one scene a block: 24 s -> 32 s).
-    if ((scenes_since_trim += read) >= kScenesPerFilterBlock) {
-      ::malloc_trim(0);
-      scenes_since_trim = 0;
-    }
-#endif
   }
   output.write(method->finish(), MeasurementFile{});
   method->log_report();

@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: Apache-2.0
 #include "stgf/core/process_noise_scale.hpp"
 
+#include <array>
 #include <cmath>
 #include <stdexcept>
 
@@ -11,7 +12,19 @@ constexpr double kLowestLog2 = 0.0;
 constexpr double kLog2Step = 0.5;
 constexpr double kPriorSigma = 3.0;  // of ln λ
 
-double grid_scale(int point) { return std::exp2(kLowestLog2 + kLog2Step * point); }
+// λ at each grid point, computed once (add() reads all of them for every innovation).
+const std::array<double, ProcessNoiseScale::kGridPoints>& grid_scales() {
+  static const std::array<double, ProcessNoiseScale::kGridPoints> scales = [] {
+    std::array<double, ProcessNoiseScale::kGridPoints> result{};
+    for (int point = 0; point < ProcessNoiseScale::kGridPoints; ++point) {
+      result[point] = std::exp2(kLowestLog2 + kLog2Step * point);
+    }
+    return result;
+  }();
+  return scales;
+}
+
+double grid_scale(int point) { return grid_scales()[point]; }
 
 }  // namespace
 
@@ -33,8 +46,9 @@ void ProcessNoiseScale::add(const Vector3d& innovation, const Matrix3d& known_co
     auto& axis = log_posterior_[a];
     const double squared = innovation[a] * innovation[a];
     int best = 0;
+    const std::array<double, kGridPoints>& scales = grid_scales();
     for (int point = 0; point < kGridPoints; ++point) {
-      const double variance = known_covariance(a, a) + grid_scale(point) * process_noise(a, a);
+      const double variance = known_covariance(a, a) + scales[point] * process_noise(a, a);
       if (variance > 0.0) axis[point] -= 0.5 * weight * (squared / variance + std::log(variance));
       if (axis[point] > axis[best]) best = point;
     }

@@ -3,8 +3,12 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <limits>
+#include <numeric>
 #include <sstream>
+#include <string_view>
+#include <unordered_map>
 
 #include "stgf/core/multi_view_update.hpp"
 
@@ -20,8 +24,50 @@ std::string seconds(double time) {
 }
 
 bool row_before(const Measurement& a, const Measurement& b) {
-  if (a.object != b.object) return a.object < b.object;
+  if (const int object = a.object.compare(b.object); object != 0) return object < 0;
   return a.view < b.view;
+}
+
+// Each distinct name of `names` gets its rank in name order: a hash look-up per name (none when it
+// repeats the one before, as rows grouped by object or view do) and O(d log d) string comparisons for
+// d distinct names, instead of O(n log n) comparisons to sort n rows by name.
+class NameRanks {
+ public:
+  std::uint32_t index(std::string_view name) {
+    if (!names_.empty() && name == names_[last_]) return last_;
+    const auto [found, added] = indices_.try_emplace(name, static_cast<std::uint32_t>(names_.size()));
+    if (added) names_.push_back(name);
+    last_ = found->second;
+    return last_;
+  }
+  // Ranks by index, once every name is in.
+  std::vector<std::uint32_t> ranks() const {
+    std::vector<std::uint32_t> by_name(names_.size());
+    std::iota(by_name.begin(), by_name.end(), 0u);
+    std::sort(by_name.begin(), by_name.end(), [this](std::uint32_t a, std::uint32_t b) { return names_[a] < names_[b]; });
+    std::vector<std::uint32_t> rank(names_.size());
+    for (std::size_t r = 0; r < by_name.size(); ++r) rank[by_name[r]] = static_cast<std::uint32_t>(r);
+    return rank;
+  }
+
+ private:
+  std::unordered_map<std::string_view, std::uint32_t> indices_;
+  std::vector<std::string_view> names_;
+  std::uint32_t last_ = 0;
+};
+
+// Sorts the indices `order` of `measurements` by (object, view) name, stably (row_before's order).
+void sort_by_object_and_view(std::span<std::size_t> order, std::span<const Measurement* const> measurements) {
+  NameRanks objects, views;
+  std::vector<std::pair<std::uint64_t, std::size_t>> keyed;  // (object index, view index) then rank
+  keyed.reserve(order.size());
+  for (const std::size_t k : order) {
+    keyed.emplace_back(std::uint64_t{objects.index(measurements[k]->object)} << 32 | views.index(measurements[k]->view), k);
+  }
+  const std::vector<std::uint32_t> object_rank = objects.ranks(), view_rank = views.ranks();
+  for (auto& [key, k] : keyed) key = std::uint64_t{object_rank[key >> 32]} << 32 | view_rank[key & 0xffffffffu];
+  std::stable_sort(keyed.begin(), keyed.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
+  for (std::size_t r = 0; r < keyed.size(); ++r) order[r] = keyed[r].second;
 }
 
 }  // namespace
@@ -76,8 +122,7 @@ void SceneFilter::receive(std::span<const Measurement* const> measurements, std:
     const double time = measurements[order[first]]->time;
     std::size_t end = first;
     while (end < order.size() && measurements[order[end]]->time - time <= kSameStepTolerance) ++end;
-    std::stable_sort(order.begin() + static_cast<std::ptrdiff_t>(first), order.begin() + static_cast<std::ptrdiff_t>(end),
-                     [&](std::size_t a, std::size_t b) { return row_before(*measurements[a], *measurements[b]); });
+    sort_by_object_and_view(std::span(order).subspan(first, end - first), measurements);
     Event& event = events.emplace_back(Event{time, {}, false});
     event.rows.reserve(end - first);
     for (std::size_t k = first; k < end; ++k) event.rows.push_back(Row{ids[order[k]], *measurements[order[k]], false});
