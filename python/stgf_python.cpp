@@ -28,8 +28,8 @@
 #include "stgf/io/measurement_file.hpp"
 #include "stgf/io/method_config_file.hpp"
 #include "stgf/io/truth_file.hpp"
-#include "stgf/learn/motion_model.hpp"
-#include "stgf/learn/named_methods.hpp"
+#include "stgf/model/trained_motion_model.hpp"
+#include "stgf/model/named_methods.hpp"
 #include "stgf/methods/spatiotemporal_graph_filter.hpp"
 #include "stgf/version.hpp"
 
@@ -156,11 +156,11 @@ MethodConfig config_from(const std::optional<std::string>& path) {
 // ── Model ────────────────────────────────────────────────────────────────────────────────────────
 
 struct Model {
-  std::shared_ptr<const MotionModel> model;
+  std::shared_ptr<const TrainedMotionModel> model;
   std::string path;
 };
 
-Model load_model(const std::string& path) { return Model{std::make_shared<const MotionModel>(MotionModel::load(path)), path}; }
+Model load_model(const std::string& path) { return Model{std::make_shared<const TrainedMotionModel>(TrainedMotionModel::load(path)), path}; }
 
 // ── Streaming filter ─────────────────────────────────────────────────────────────────────────────
 
@@ -239,7 +239,7 @@ py::dict run(const std::string& method, const py::object& scene, const Array& ti
   std::optional<Model> loaded;
   if (is_learned_method(method)) {
     if (model.is_none()) throw std::invalid_argument("method " + method + " needs a model");
-    loaded = py::isinstance<py::str>(model) ? Model{std::make_shared<const MotionModel>(load_model_for(method, model.cast<std::string>())),
+    loaded = py::isinstance<py::str>(model) ? Model{std::make_shared<const TrainedMotionModel>(load_model_for(method, model.cast<std::string>())),
                                                     model.cast<std::string>()}
                                             : model.cast<Model>();
   }

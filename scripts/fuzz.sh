@@ -1,18 +1,19 @@
 #!/usr/bin/env bash
 # SPDX-License-Identifier: Apache-2.0
-# Builds the libFuzzer targets (fuzz/: one per text reader) with clang, ASan and UBSan in build-fuzz/,
+# Builds the libFuzzer targets (fuzz/: one per reader, the model file's LibTorch-free reader included:
+# trained_model) with clang, ASan and UBSan in build-fuzz/,
 # and runs each for SECONDS (default 15) from its seed corpus (fuzz/corpus/TARGET, plus what earlier
 # runs found, kept in build-fuzz/corpus/TARGET). Any crash, sanitizer report, hang (>10 s per input)
 # or exception other than stgf::InputError fails the run and leaves the input in build-fuzz/.
-# The model file reader ("model") is fuzzed by build/fuzz/fuzz_model_file, a mutation harness
-# (fuzz/mutate_model_file.cpp), for 20 × SECONDS mutated files.
-#   scripts/fuzz.sh [SECONDS] [TARGET...]      targets: measurements truth estimates config model
+# LibTorch's reading of the model file ("model") is fuzzed by build/fuzz/fuzz_model_file, a mutation
+# harness (fuzz/mutate_model_file.cpp), for 20 × SECONDS mutated files.
+#   scripts/fuzz.sh [SECONDS] [TARGET...]      targets: measurements truth estimates config trained_model model
 set -euo pipefail
 cd "$(dirname "$0")/.."
 seconds=${1:-15}
 shift || true
 targets=("$@")
-[ ${#targets[@]} -eq 0 ] && targets=(measurements truth estimates config model)
+[ ${#targets[@]} -eq 0 ] && targets=(measurements truth estimates config trained_model model)
 
 if [ ! -f build-fuzz/CMakeCache.txt ]; then
   CXX=clang++ CC=clang cmake -S . -B build-fuzz -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DSTGF_BUILD_FUZZERS=ON \
@@ -40,6 +41,7 @@ for target in "${text_targets[@]}"; do
   corpus=build-fuzz/corpus/$target
   mkdir -p "$corpus"
   [ -d "fuzz/corpus/$target" ] && cp -n fuzz/corpus/"$target"/* "$corpus"/ 2>/dev/null || true
+  [ "$target" = trained_model ] && cp -n tests/model/data/*.pt "$corpus"/ 2>/dev/null || true
   echo "== fuzz_$target for ${seconds} s"
   # A fixed seed and a fixed number of inputs (about SECONDS on this machine): the same run every
   # time, so CI does not turn red at random; longer runs explore further.

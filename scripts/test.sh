@@ -3,7 +3,8 @@
 # Installs what is missing, builds, and runs the whole test suite through ctest. Then:
 #   - the learned model's tests once more with one OpenMP thread and OpenBLAS on its Haswell kernels
 #     (results must not depend on the thread count or the BLAS kernel choice);
-#   - the core and the methods built and tested without LibTorch (build-core/, -DSTGF_WITH_LIBTORCH=OFF);
+#   - the core, the methods and the trained model's reader built and tested without LibTorch (build-core/,
+#     -DSTGF_WITH_LIBTORCH=OFF), and `stgf run --method ours` run there;
 #   - every reader fuzzed for 10 s (scripts/fuzz.sh: libFuzzer with ASan + UBSan, and the model file's
 #     mutation harness).
 set -euo pipefail
@@ -15,15 +16,23 @@ ctest --test-dir build --output-on-failure --parallel "$(nproc)" "$@"
 echo "== the learned model's tests with OMP_NUM_THREADS=1 OPENBLAS_CORETYPE=Haswell"
 OMP_NUM_THREADS=1 OPENBLAS_CORETYPE=Haswell build/tests/test_learn --gtest_brief=1
 
-echo "== the core and the methods without LibTorch (build-core/)"
+echo "== the core, the methods and a trained model without LibTorch (build-core/)"
 if [ ! -f build-core/CMakeCache.txt ]; then
   cmake -S . -B build-core -G Ninja -DCMAKE_BUILD_TYPE=Release -DSTGF_WITH_LIBTORCH=OFF -DSTGF_BUILD_PYTHON=OFF \
     -DSTGF_BUILD_BENCHMARKS=OFF >/dev/null
 fi
-cmake --build build-core --parallel "$(nproc)" --target test_core test_methods
-if ldd build-core/tests/test_core build-core/tests/test_methods | grep -q libtorch; then echo "build-core links LibTorch" >&2; exit 1; fi
+cmake --build build-core --parallel "$(nproc)" --target test_core test_methods test_model stgf_cli
+if ldd build-core/tests/test_core build-core/tests/test_methods build-core/tests/test_model build-core/stgf | grep -q libtorch; then
+  echo "build-core links LibTorch" >&2
+  exit 1
+fi
 build-core/tests/test_core --gtest_brief=1
 build-core/tests/test_methods --gtest_brief=1
+build-core/tests/test_model --gtest_brief=1
+# A trained model runs without LibTorch: `ours` with the tests' small model on a small synthetic benchmark.
+rm -rf build-core/sample && build-core/stgf dataset synthetic --out build-core/sample --seed 1 --scenes 2 --steps 20 -q
+build-core/stgf run --method ours --model tests/model/data/tiny-motion-model.pt \
+  --measurements build-core/sample/test/measurements.csv --out build-core/sample/ours.csv -q
 
 echo "== a short fuzzing run of every reader (scripts/fuzz.sh; longer runs: scripts/fuzz.sh SECONDS)"
 scripts/fuzz.sh 10

@@ -218,7 +218,7 @@ void ensure_model(const std::string& name, const fs::path& benchmark, const fs::
 
 // Runs `method` over the test measurements and writes its estimates file; returns the file.
 fs::path run_and_write(const std::string& method, const std::string& label, const MethodConfig& config,
-                       const MotionModel* model, const std::string& model_path, const MeasurementFile& measurements,
+                       const TrainedMotionModel* model, const std::string& model_path, const MeasurementFile& measurements,
                        const fs::path& folder, std::map<std::string, double>& timings) {
   const Stopwatch watch;
   const std::vector<Gaussian3> positions = run_method_and_log(method, config, model, model_path, measurements.rows);
@@ -237,9 +237,9 @@ fs::path run_and_write(const std::string& method, const std::string& label, cons
 
 // The models of a benchmark, for run_every_method.
 struct BenchmarkModels {
-  const MotionModel& fused;
+  const TrainedMotionModel& fused;
   fs::path fused_path;
-  const MotionModel& raw;
+  const TrainedMotionModel& raw;
   fs::path raw_path;
 };
 
@@ -253,7 +253,7 @@ std::vector<std::pair<std::string, fs::path>> run_every_method(
   const MethodConfig config;
   for (const std::string& method : all_method_names()) {
     const bool raw = method == "sttp";
-    const MotionModel* model = raw ? &models.raw : is_learned_method(method) ? &models.fused : nullptr;
+    const TrainedMotionModel* model = raw ? &models.raw : is_learned_method(method) ? &models.fused : nullptr;
     const fs::path& model_path = raw ? models.raw_path : models.fused_path;
     files.emplace_back(method, run_and_write(method, method, config, model, model_path.string(), measurements, folder,
                                              timings));
@@ -318,8 +318,8 @@ BenchmarkResult reproduce_benchmark(const std::string& name, const ReproduceOpti
 
   progress.next("running the six methods on the test split");
   const MeasurementFile measurements = read_measurements((folder / "test" / "measurements.csv").string());
-  const MotionModel fused = load_model_for("ours", fused_model.string());
-  const MotionModel raw = load_model_for("sttp", raw_model.string());
+  const TrainedMotionModel fused = load_model_for("ours", fused_model.string());
+  const TrainedMotionModel raw = load_model_for("sttp", raw_model.string());
   const BenchmarkModels models{fused, fused_model, raw, raw_model};
   MethodConfig without_registration;
   without_registration.ours.registration = false;

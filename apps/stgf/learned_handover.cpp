@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: Apache-2.0
-// The `stgf` executable's side of the seam in learned_seam.hpp: whatever needs the learned motion
-// model hands the command line over to stgf-learned. The subcommands below exist so that
+// The `stgf` executable's side of the seam in learned_seam.hpp: training (train, reproduce) hands the
+// command line over to stgf-learned. The subcommands below exist so that
 // `stgf --help` lists them; their options, help and work are stgf-learned's.
 
 #include <memory>
@@ -28,11 +28,6 @@ void add_train_command(CLI::App& app) {
 
 void add_reproduce_command(CLI::App& app) {
   add_handed_over_command(app, "reproduce", kReproduceDescription);
-}
-
-std::unique_ptr<BlockMethod> prepare_learned_method(const std::string& method, const MethodConfig& /*config*/,
-                                                    const std::string& /*model_path*/) {
-  hand_over_to_learned_cli("--method " + method);
 }
 
 }  // namespace stgf::cli

@@ -2,12 +2,12 @@
 #pragma once
 // The seam between the CLI's two executables (method names: stgf/methods/registry.hpp):
 //
-//   stgf           everything that needs no LibTorch (run with aom, wls, mmt; eval; plot; dataset),
-//                  so that `stgf --version`, `stgf run --method wls` and `stgf eval` do not pay
-//                  LibTorch's start-up (0.7 s and 165 MB, measured);
-//   stgf-learned   the same CLI with the learned motion model Φ linked in (train, reproduce, and run
-//                  with sttp, ours-l, ours). stgf hands its whole command line over to it (exec) when
-//                  one of those is asked for, so a user only ever types `stgf`.
+//   stgf           everything that needs no LibTorch: run with every method (a trained model is read
+//                  and run without LibTorch: stgf/model/trained_motion_model.hpp), eval, plot,
+//                  dataset — so that none of them pays LibTorch's start-up (0.8 s and 165 MB, measured);
+//   stgf-learned   the same CLI with LibTorch linked in, for training (train, reproduce). stgf hands
+//                  its whole command line over to it (exec) when one of those is asked for, so a user
+//                  only ever types `stgf`.
 
 #include <memory>
 #include <string>
@@ -21,7 +21,7 @@ namespace stgf::cli {
 
 // A learned method with its model loaded and checked, ready to be given the file block by block
 // (block_method.hpp). Loads the model (std::invalid_argument naming the file when it is missing or
-// trained for another method). In `stgf`, hands the command line over to stgf-learned instead.
+// trained for another method). method_runner.cpp.
 std::unique_ptr<BlockMethod> prepare_learned_method(const std::string& method, const MethodConfig& config,
                                                     const std::string& model_path);
 

@@ -34,7 +34,7 @@ void log_registration_prior_scales(const std::string& method, std::vector<double
 
 }  // namespace
 
-void log_method_report(const std::string& method, const MethodConfig& config, const MotionModel* model,
+void log_method_report(const std::string& method, const MethodConfig& config, const TrainedMotionModel* model,
                        const std::string& model_path, const MethodRunReport& report) {
   if (report.registration_missing) {
     spdlog::warn("{} holds no registration calibration (trained before stgf calibrated it); the views' offsets are "
@@ -60,7 +60,7 @@ void log_method_report(const std::string& method, const MethodConfig& config, co
   }
 }
 
-std::vector<Gaussian3> run_method_and_log(const std::string& method, const MethodConfig& config, const MotionModel* model,
+std::vector<Gaussian3> run_method_and_log(const std::string& method, const MethodConfig& config, const TrainedMotionModel* model,
                                           const std::string& model_path, std::span<const Measurement> rows) {
   MethodRunReport report;
   std::vector<Gaussian3> estimates = run_named_method(method, config, model, model_path, rows, &report);
@@ -89,7 +89,7 @@ class LoadedMethod final : public BlockMethod {
   std::string method_;
   MethodConfig config_;
   std::string model_path_;
-  MotionModel model_;
+  TrainedMotionModel model_;
   NamedMethodRun run_;
 };
 

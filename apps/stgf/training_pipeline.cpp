@@ -19,8 +19,8 @@
 #include "stgf/io/measurement_file.hpp"
 #include "stgf/io/truth_file.hpp"
 #include "stgf/learn/filter_calibration.hpp"
-#include "stgf/learn/motion_graphs.hpp"
-#include "stgf/learn/registration_metadata.hpp"
+#include "stgf/model/motion_graphs.hpp"
+#include "stgf/model/registration_metadata.hpp"
 
 namespace stgf::cli {
 namespace {

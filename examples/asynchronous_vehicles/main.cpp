@@ -20,8 +20,8 @@
 #include <memory>
 #include <random>
 
-#include "stgf/learn/motion_model.hpp"
-#include "stgf/learn/registration_metadata.hpp"
+#include "stgf/model/trained_motion_model.hpp"
+#include "stgf/model/registration_metadata.hpp"
 #include "stgf/methods/spatiotemporal_graph_filter.hpp"
 
 namespace {
@@ -47,7 +47,7 @@ int run(int argc, char** argv) {
   // Each vehicle's pose error is unknown but bounded: 0.5 m per ground axis, a little in height.
   options.registration.translation_sigma = Vector3d(0.5, 0.5, 0.05);
   if (argc > 1) {
-    auto model = std::make_unique<stgf::MotionModel>(stgf::MotionModel::load(argv[1]));
+    auto model = std::make_unique<stgf::TrainedMotionModel>(stgf::TrainedMotionModel::load(argv[1]));
     predictor = std::move(model);
   } else {
     // History positions a frame apart (0.09 s), as a learned model's come from its training rate.

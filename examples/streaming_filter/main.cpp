@@ -15,8 +15,8 @@
 #include <memory>
 #include <random>
 
-#include "stgf/learn/motion_model.hpp"
-#include "stgf/learn/registration_metadata.hpp"
+#include "stgf/model/trained_motion_model.hpp"
+#include "stgf/model/registration_metadata.hpp"
 #include "stgf/methods/spatiotemporal_graph_filter.hpp"
 
 namespace {
@@ -34,7 +34,7 @@ int run(int argc, char** argv) {
   std::unique_ptr<stgf::MotionPredictor> predictor;
   stgf::RegistrationPrior registration;
   if (argc > 1) {
-    auto model = std::make_unique<stgf::MotionModel>(stgf::MotionModel::load(argv[1]));
+    auto model = std::make_unique<stgf::TrainedMotionModel>(stgf::TrainedMotionModel::load(argv[1]));
     registration = stgf::registration_prior_from_metadata(model->metadata(), argv[1]).value_or(registration);
     predictor = std::move(model);
   } else {

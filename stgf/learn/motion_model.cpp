@@ -105,41 +105,16 @@ torch::Tensor MotionNetworkImpl::acceleration(const MotionBatch& batch) {
 
 namespace {
 
-constexpr const char* kFormat = "stgf-motion-model";
-// 1: the first format. 2: adds "checksum" (required) and stores Adam's state under "adam" keyed by
-// parameter index. Version 1 files are still read (without the check).
-constexpr int kFormatVersion = 2;
-
-// FNV-1a, 64 bit: the model file's integrity check over its configuration text and every weight's
-// name, shape and bytes, in the network's parameter order. It catches corruption (a flipped byte
-// anywhere in them), not tampering.
-class Checksum {
- public:
-  void add(const void* data, std::size_t size) {
-    const auto* bytes = static_cast<const unsigned char*>(data);
-    for (std::size_t k = 0; k < size; ++k) hash_ = (hash_ ^ bytes[k]) * 0x100000001b3ULL;
-  }
-  void add(const std::string& text) { add(text.data(), text.size()); }
-  std::string hex() const {
-    char text[17];
-    std::snprintf(text, sizeof text, "%016llx", static_cast<unsigned long long>(hash_));
-    return text;
-  }
-
- private:
-  std::uint64_t hash_ = 0xcbf29ce484222325ULL;
-};
-
-std::string weights_checksum(const std::string& config_text, const detail::MotionNetwork& network) {
-  Checksum checksum;
-  checksum.add(config_text);
+// The network's weights by name, in its parameter order, as the LibTorch-free side reads them
+// (trained_motion_model.hpp).
+NamedWeights named_weights(const detail::MotionNetwork& network) {
+  NamedWeights weights;
   for (const auto& item : network->named_parameters()) {
     const torch::Tensor values = item.value().detach().contiguous().to(torch::kFloat32);
-    checksum.add(item.key());
-    for (const int64_t size : values.sizes()) checksum.add(&size, sizeof size);
-    checksum.add(values.data_ptr<float>(), static_cast<std::size_t>(values.numel()) * sizeof(float));
+    weights.names.push_back(item.key());
+    weights.values.emplace_back(values.data_ptr<float>(), values.data_ptr<float>() + values.numel());
   }
-  return checksum.hex();
+  return weights;
 }
 
 // Adam's state, keyed by parameter index. (LibTorch's Optimizer::save keys it by each parameter's
@@ -177,39 +152,6 @@ void load_adam_state(torch::serialize::InputArchive& archive, torch::optim::Opti
   }
 }
 
-nlohmann::json shape_json(const MotionModelShape& s) {
-  return {{"history_length", s.history_length}, {"embedding", s.embedding}, {"hidden", s.hidden},
-          {"attention_hidden", s.attention_hidden}, {"max_fully_connected", s.max_fully_connected},
-          {"nearest_neighbours", s.nearest_neighbours}};
-}
-
-MotionModelShape shape_from(const nlohmann::json& j) {
-  MotionModelShape s;
-  s.history_length = j.at("history_length").get<int>();
-  s.embedding = j.at("embedding").get<int>();
-  s.hidden = j.at("hidden").get<int>();
-  s.attention_hidden = j.at("attention_hidden").get<int>();
-  s.max_fully_connected = j.at("max_fully_connected").get<int>();
-  s.nearest_neighbours = j.at("nearest_neighbours").get<int>();
-  if (s.history_length < 1 || s.embedding < 1 || s.hidden < 1 || s.attention_hidden < 1 ||
-      s.max_fully_connected < 1 || s.nearest_neighbours < 1) {
-    throw std::invalid_argument("shape has a size below 1");
-  }
-  return s;
-}
-
-nlohmann::json matrix_json(const Matrix3d& m) {
-  return {{m(0, 0), m(0, 1), m(0, 2)}, {m(1, 0), m(1, 1), m(1, 2)}, {m(2, 0), m(2, 1), m(2, 2)}};
-}
-
-Matrix3d matrix_from(const nlohmann::json& j) {
-  Matrix3d m;
-  for (int r = 0; r < 3; ++r) {
-    for (int c = 0; c < 3; ++c) m(r, c) = j.at(r).at(c).get<double>();
-  }
-  return m;
-}
-
 }  // namespace
 
 MotionModel::MotionModel(std::unique_ptr<Impl> impl) : impl_(std::move(impl)) {}
@@ -228,21 +170,15 @@ MotionModel& MotionModel::operator=(MotionModel&&) noexcept = default;
 
 void MotionModel::Impl::save(const std::string& path, const nlohmann::json& extra_metadata,
                              torch::optim::Optimizer* optimizer) const {
-  nlohmann::json config = {
-      {"shape", shape_json(shape)},
-      {"normalisation",
-       {{"speed", normalisation.speed},
-        {"period", normalisation.period},
-        {"length", normalisation.length},
-        {"longest_interval", normalisation.longest_interval}}},
-      {"process_noise", {{"reference", matrix_json(process_noise_reference)}, {"period", process_noise_period}}},
-      {"metadata", extra_metadata.is_null() ? metadata : extra_metadata}};
+  MotionModelSettings settings{shape, normalisation, process_noise_reference, process_noise_period,
+                               extra_metadata.is_null() ? metadata : extra_metadata};
+  const nlohmann::json config = settings_json(settings);
   const std::string config_text = config.dump();
   torch::serialize::OutputArchive archive;
-  archive.write("format", c10::IValue(std::string(kFormat)));
-  archive.write("version", c10::IValue(static_cast<int64_t>(kFormatVersion)));
+  archive.write("format", c10::IValue(std::string(kMotionModelFormat)));
+  archive.write("version", c10::IValue(static_cast<int64_t>(kMotionModelVersion)));
   archive.write("config", c10::IValue(config_text));
-  archive.write("checksum", c10::IValue(weights_checksum(config_text, network)));
+  archive.write("checksum", c10::IValue(model_checksum(config_text, shape, named_weights(network))));
   torch::serialize::OutputArchive network_archive;
   network->save(network_archive);
   archive.write("network", network_archive);
@@ -269,56 +205,6 @@ void MotionModel::save(const std::string& path, const nlohmann::json& metadata) 
 
 namespace {
 
-std::uint32_t crc32(const unsigned char* data, std::size_t size) {
-  static const auto table = [] {
-    std::array<std::uint32_t, 256> t{};
-    for (std::uint32_t n = 0; n < 256; ++n) {
-      std::uint32_t c = n;
-      for (int k = 0; k < 8; ++k) c = (c & 1U) != 0 ? 0xEDB88320U ^ (c >> 1) : c >> 1;
-      t[n] = c;
-    }
-    return t;
-  }();
-  std::uint32_t crc = 0xFFFFFFFFU;
-  for (std::size_t i = 0; i < size; ++i) crc = table[(crc ^ data[i]) & 0xFFU] ^ (crc >> 8);
-  return crc ^ 0xFFFFFFFFU;
-}
-
-// Why the zip archive `bytes` is damaged, or nullopt: every record listed in its central directory
-// lies inside the file and matches its CRC-32. LibTorch's TorchScript parser crashes (a segmentation
-// fault, which nothing can catch) on some damaged archives (found by fuzz_model_file), so stgf checks
-// the bytes before LibTorch parses them. Archives it cannot check (ZIP64, compressed records) pass.
-std::optional<std::string> zip_damage(const std::string& bytes) {
-  const auto* data = reinterpret_cast<const unsigned char*>(bytes.data());
-  const std::size_t size = bytes.size();
-  const auto u16 = [&](std::size_t at) { return static_cast<std::uint32_t>(data[at] | data[at + 1] << 8); };
-  const auto u32 = [&](std::size_t at) { return u16(at) | u16(at + 2) << 16; };
-  if (size < 22) return "too short for a zip archive";
-  std::size_t end = size - 22;  // the end-of-central-directory record, after at most a 64 KB comment
-  while (u32(end) != 0x06054b50U) {
-    if (end == 0 || size - end > 22 + 65535) return "no zip directory";
-    --end;
-  }
-  const std::size_t entries = u16(end + 10);
-  std::size_t at = u32(end + 16);
-  if (u32(end + 16) == 0xFFFFFFFFU || entries == 0xFFFFU) return std::nullopt;  // ZIP64
-  for (std::size_t k = 0; k < entries; ++k) {
-    if (at + 46 > size || u32(at) != 0x02014b50U) return "damaged zip directory";
-    const std::uint32_t method = u16(at + 10), crc = u32(at + 16), stored = u32(at + 20);
-    const std::size_t name_length = u16(at + 28);
-    const std::size_t local = u32(at + 42);
-    if (at + 46 + name_length > size) return "damaged zip directory";
-    const std::string name = bytes.substr(at + 46, std::min<std::size_t>(name_length, 80));
-    if (stored == 0xFFFFFFFFU || local == 0xFFFFFFFFU) return std::nullopt;  // ZIP64
-    if (local + 30 > size || u32(local) != 0x04034b50U) return "record '" + name + "' is not where the directory says";
-    const std::size_t start = local + 30 + u16(local + 26) + u16(local + 28);
-    if (start + stored > size) return "record '" + name + "' runs past the end of the file";
-    if (method == 0 && crc32(data + start, stored) != crc) return "record '" + name + "' fails its CRC-32";
-    at += 46 + name_length + u16(at + 30) + u16(at + 32);
-  }
-  return std::nullopt;
-}
-
 // The first line of a LibTorch error, at most 120 characters (its messages carry source excerpts
 // and backtraces).
 std::string first_line(const char* what) {
@@ -344,75 +230,32 @@ MotionModel MotionModel::load(const std::string& path) {
 
 MotionModel MotionModel::load_checked(const std::string& path) {
   if (!std::filesystem::exists(path)) throw InputError(path, 0, "no such model file");
-  // Read once: checked here, then parsed by LibTorch from the same bytes.
+  // Read once: checked without LibTorch (every check a model file gets, the archive's own included:
+  // LibTorch's parser crashes on some damaged archives, found by fuzz_model_file), then parsed by
+  // LibTorch from the same bytes for the network's tensors.
   std::ifstream file(path, std::ios::binary);
   const std::string bytes((std::istreambuf_iterator<char>(file)), std::istreambuf_iterator<char>());
-  if (const auto damage = zip_damage(bytes)) {
-    throw InputError(path, 0, "not a readable model file (corrupt, or not written by stgf train): " + *damage);
-  }
+  const TrainedMotionModel checked = TrainedMotionModel::parse(bytes, path);
   torch::serialize::InputArchive archive;
   try {
     archive.load_from(bytes.data(), bytes.size());
   } catch (const c10::Error&) {
     throw InputError(path, 0, "not a readable model file (corrupt, or not written by stgf train)");
   }
-  c10::IValue format, config_text;
-  if (!archive.try_read("format", format) || !format.isString() || format.toStringRef() != kFormat) {
-    throw InputError(path, 0, "not a stgf motion model (no '" + std::string(kFormat) + "' marker)");
-  }
-  c10::IValue version;
-  if (!archive.try_read("version", version) || !version.isInt() || version.toInt() < 1 ||
-      version.toInt() > kFormatVersion) {
-    throw InputError(path, 0, "model file version is not 1 to " + std::to_string(kFormatVersion));
-  }
   auto impl = std::make_unique<Impl>();
-  try {
-    archive.read("config", config_text);
-    const nlohmann::json config = nlohmann::json::parse(config_text.toStringRef());
-    impl->shape = shape_from(config.at("shape"));
-    const auto& n = config.at("normalisation");
-    impl->normalisation = {n.at("speed").get<double>(), n.at("period").get<double>(), n.at("length").get<double>(),
-                           0.0};
-    // Files written before the horizon was stored: three steps, as `stgf train --strides 1,2,3` trains.
-    impl->normalisation.longest_interval = n.value("longest_interval", 3.0 * impl->normalisation.period);
-    impl->process_noise_reference = matrix_from(config.at("process_noise").at("reference"));
-    impl->process_noise_period = config.at("process_noise").at("period").get<double>();
-    impl->metadata = config.at("metadata");
-  } catch (const std::exception& error) {
-    throw InputError(path, 0, std::string("model configuration is invalid: ") + error.what());
-  }
+  const MotionModelSettings& settings = checked.settings();
+  impl->shape = settings.shape;
+  impl->normalisation = settings.normalisation;
+  impl->process_noise_reference = settings.process_noise_reference;
+  impl->process_noise_period = settings.process_noise_period;
+  impl->metadata = settings.metadata;
   impl->network = detail::MotionNetwork(impl->shape);
-  // Module::load would adopt whatever shapes the file holds; check them against the stated shape.
-  std::vector<std::pair<std::string, std::vector<int64_t>>> expected;
-  for (const auto& item : impl->network->named_parameters()) {
-    expected.emplace_back(item.key(), item.value().sizes().vec());
-  }
   try {
     torch::serialize::InputArchive network_archive;
     archive.read("network", network_archive);
     impl->network->load(network_archive);
   } catch (const c10::Error& error) {
     throw InputError(path, 0, std::string("model weights are missing or unreadable: ") + error.what_without_backtrace());
-  }
-  const auto parameters = impl->network->named_parameters();
-  for (const auto& [name, sizes] : expected) {
-    const torch::Tensor* loaded = parameters.find(name);
-    if (loaded == nullptr || loaded->sizes().vec() != sizes) {
-      throw InputError(path, 0, "model weights do not match its stated shape (parameter '" + name + "')");
-    }
-    if (!torch::isfinite(*loaded).all().item<bool>()) {
-      throw InputError(path, 0, "model parameter '" + name + "' is not finite");
-    }
-  }
-  if (!impl->process_noise_reference.allFinite() || !(impl->process_noise_period > 0.0)) {
-    throw InputError(path, 0, "model process noise is invalid");
-  }
-  if (version.toInt() >= 2) {
-    c10::IValue stored;
-    if (!archive.try_read("checksum", stored) || !stored.isString()) throw InputError(path, 0, "model file has no checksum");
-    if (stored.toStringRef() != weights_checksum(config_text.toStringRef(), impl->network)) {
-      throw InputError(path, 0, "model file is corrupt: its weights or settings do not match its checksum");
-    }
   }
   return MotionModel(std::move(impl));
 }
@@ -432,78 +275,13 @@ std::vector<std::vector<Vector3d>> MotionModel::Impl::positions_from(const detai
   return positions;
 }
 
-std::vector<std::vector<MotionForecast>> MotionModel::Impl::forecasts_from(const MotionFeatures& features,
-                                                                       const Eigen::Matrix3Xf& acceleration) const {
-  // â (m/s²) = s_v / s_t · head; x̂(τ) = p_last + (v_last + â Δt_last / 2) τ + â τ² / 2 (motion_model.hpp).
-  const double scale = normalisation.speed / normalisation.period;
-  std::vector<std::vector<MotionForecast>> forecasts(features.graph_offsets.size() - 1);
-  for (std::size_t g = 0; g + 1 < features.graph_offsets.size(); ++g) {
-    for (std::size_t i = features.graph_offsets[g]; i < features.graph_offsets[g + 1]; ++i) {
-      MotionForecast forecast;
-      forecast.acceleration = scale * acceleration.col(static_cast<Eigen::Index>(i)).cast<double>();
-      forecast.velocity = features.last_velocities[i] + 0.5 * features.last_intervals[i] * forecast.acceleration;
-      forecasts[g].push_back(forecast);
-    }
-  }
-  return forecasts;
-}
-
-namespace {
-
-Eigen::MatrixXf matrix_of(const torch::Tensor& tensor) {
-  const torch::Tensor values = tensor.detach().to(torch::kFloat32).contiguous();
-  const auto rows = values.size(0);
-  const auto cols = values.dim() > 1 ? values.size(1) : 1;
-  // LibTorch is row-major.
-  return Eigen::Map<const Eigen::Matrix<float, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>>(
-      values.data_ptr<float>(), rows, cols);
-}
-
-Eigen::VectorXf vector_of(const torch::Tensor& tensor) {
-  const torch::Tensor values = tensor.detach().to(torch::kFloat32).contiguous().reshape({-1});
-  return Eigen::Map<const Eigen::VectorXf>(values.data_ptr<float>(), values.size(0));
-}
-
-// The network's weights by their LibTorch names (motion_network.hpp registers them).
-MotionNetworkWeights weights_of(const detail::MotionNetwork& network) {
-  const auto parameters = network->named_parameters();
-  const auto get = [&](const std::string& name) {
-    const torch::Tensor* found = parameters.find(name);
-    if (found == nullptr) throw std::logic_error("motion network has no parameter " + name);
-    return *found;
-  };
-  const auto lstm = [&](const std::string& prefix, const std::string& suffix) {
-    return MotionNetworkWeights::Lstm{matrix_of(get(prefix + ".weight_ih" + suffix)),
-                                      matrix_of(get(prefix + ".weight_hh" + suffix)),
-                                      vector_of(get(prefix + ".bias_ih" + suffix) + get(prefix + ".bias_hh" + suffix))};
-  };
-  const auto attention = [&](const std::string& prefix) {
-    return MotionNetworkWeights::GraphAttention{
-        matrix_of(get(prefix + ".transform.weight")), matrix_of(get(prefix + ".offset_transform.weight")),
-        vector_of(get(prefix + ".offset_transform.bias")), vector_of(get(prefix + ".score_self.weight")),
-        vector_of(get(prefix + ".score_message.weight"))};
-  };
-  MotionNetworkWeights weights;
-  weights.embed = matrix_of(get("embed.weight"));
-  weights.embed_bias = vector_of(get("embed.bias"));
-  weights.encoder = lstm("encoder", "_l0");
-  weights.attention1 = attention("attention1");
-  weights.attention2 = attention("attention2");
-  weights.decoder = lstm("decoder", "");
-  weights.head = matrix_of(get("head.weight"));
-  weights.head_bias = vector_of(get("head.bias"));
-  return weights;
-}
-
-}  // namespace
-
 std::shared_ptr<const MotionInference> MotionModel::Impl::inference() const {
   // Every in-place change of a parameter (an optimizer step, a load) bumps its version counter.
   std::int64_t version = 0;
   for (const torch::Tensor& parameter : network->parameters()) version += static_cast<std::int64_t>(parameter._version());
   const std::lock_guard lock(inference_mutex_);
   if (!inference_ || version != inference_weights_version_) {
-    inference_ = std::make_shared<const MotionInference>(weights_of(network));
+    inference_ = std::make_shared<const MotionInference>(inference_weights(shape, named_weights(network)));
     inference_weights_version_ = version;
   }
   return inference_;
@@ -511,9 +289,13 @@ std::shared_ptr<const MotionInference> MotionModel::Impl::inference() const {
 
 std::vector<std::vector<MotionForecast>> MotionModel::forecast(std::span<const MotionGraph> graphs) const {
   if (graphs.empty()) return {};
-  const MotionFeatures features = make_motion_features(graphs, impl_->shape, impl_->normalisation);
-  if (features.objects() == 0) return std::vector<std::vector<MotionForecast>>(graphs.size());
-  return impl_->forecasts_from(features, impl_->inference()->accelerations(features));
+  return forecast_motion(*impl_->inference(), impl_->shape, impl_->normalisation, graphs);
+}
+
+TrainedMotionModel MotionModel::trained() const {
+  return TrainedMotionModel(MotionModelSettings{impl_->shape, impl_->normalisation, impl_->process_noise_reference,
+                                                impl_->process_noise_period, impl_->metadata},
+                            named_weights(impl_->network));
 }
 
 Matrix3d MotionModel::process_noise(double dt) const {

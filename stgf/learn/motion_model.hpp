@@ -55,34 +55,9 @@
 
 #include "stgf/core/motion_graph.hpp"
 #include "stgf/core/motion_predictor.hpp"
+#include "stgf/model/trained_motion_model.hpp"
 
 namespace stgf {
-
-struct MotionModelShape {
-  int history_length = 8;        // H: history intervals the encoder sees
-  int embedding = 16;            // input embedding
-  int hidden = 32;               // encoder and decoder LSTM hidden size (m_i)
-  int attention_hidden = 16;     // first graph-attention layer's output (the second outputs `hidden`)
-  int max_fully_connected = 16;  // graphs up to this size are fully connected
-  int nearest_neighbours = 8;    // larger graphs: each object attends to its k nearest (and itself)
-};
-
-// How inputs are scaled; measured on the training data.
-struct MotionNormalisation {
-  double speed = 1.0;             // s_v (m/s)
-  double period = 0.1;            // s_t (s)
-  double length = 5.0;            // s_p (m)
-  double longest_interval = 0.3;  // the 99th percentile of the training intervals (s)
-};
-
-// Φ predicts across up to this many times the longest interval it trained on (the rate
-// independence of its output is tested at twice and half the training rate).
-inline constexpr double kHorizonFactor = 2.0;
-// Φ's history positions are at least this fraction of its training period apart (motion_predictor.hpp):
-// measurements on asynchronous clocks a few milliseconds apart refine a track's estimate, and a new
-// history position starts once about a training period has passed (0.9, not 1, so that jitter in a
-// stream at the training rate does not skip every other frame).
-inline constexpr double kHistorySpacingFactor = 0.9;
 
 class MotionModel final : public MotionPredictor {
  public:
@@ -92,8 +67,10 @@ class MotionModel final : public MotionPredictor {
   MotionModel(MotionModel&&) noexcept;
   MotionModel& operator=(MotionModel&&) noexcept;
 
-  // Reads a model file written by save(). Throws InputError ("PATH: reason") when the file is
-  // missing, corrupt, not a stgf motion model, or its weights do not match its stated shape.
+  // Reads a model file written by save(), with the checks of TrainedMotionModel::load (which reads
+  // it first: LibTorch then parses only archives that passed them). Throws InputError ("PATH:
+  // reason") when the file is missing, corrupt, not a stgf motion model, or its weights do not match
+  // its stated shape.
   static MotionModel load(const std::string& path);
   // Writes weights, shape, normalisation, Q and `metadata` (any JSON object) to `path`, whole or not at all.
   void save(const std::string& path, const nlohmann::json& metadata = nlohmann::json::object()) const;
@@ -113,6 +90,10 @@ class MotionModel final : public MotionPredictor {
   double history_spacing() const override { return kHistorySpacingFactor * normalisation().period; }
   double prediction_horizon() const override { return kHorizonFactor * normalisation().longest_interval; }
   void set_process_noise(const Matrix3d& reference, double reference_period);
+
+  // The model for its current weights, without LibTorch: what a file save() writes now would load as,
+  // forecasts bit for bit the same.
+  TrainedMotionModel trained() const;
 
   const MotionModelShape& shape() const;
   const MotionNormalisation& normalisation() const;

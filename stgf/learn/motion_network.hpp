@@ -11,8 +11,8 @@
 #include <span>
 #include <vector>
 
-#include "stgf/learn/motion_features.hpp"
-#include "stgf/learn/motion_inference.hpp"
+#include "stgf/model/motion_features.hpp"
+#include "stgf/model/motion_inference.hpp"
 #include "stgf/learn/motion_model.hpp"
 
 namespace stgf::detail {
@@ -84,9 +84,6 @@ struct MotionModel::Impl {
   // Positions predicted from the network's velocities (double precision).
   std::vector<std::vector<Vector3d>> positions_from(const detail::MotionBatch& batch,
                                                     const torch::Tensor& velocity) const;
-  // Forecasts from the network's accelerations â (units of s_v / s_t, one column per object).
-  std::vector<std::vector<MotionForecast>> forecasts_from(const MotionFeatures& features,
-                                                         const Eigen::Matrix3Xf& acceleration) const;
   // The Eigen forward pass (motion_inference.hpp) that forecast() runs, made from the network's current
   // weights: built on first use and again whenever a weight has changed since (training, loading),
   // which LibTorch's per-tensor version counters tell.

@@ -17,7 +17,7 @@
 #include <string>
 #include <vector>
 
-#include "stgf/learn/motion_graphs.hpp"
+#include "stgf/model/motion_graphs.hpp"
 #include "stgf/learn/motion_model.hpp"
 
 namespace stgf {

@@ -4,7 +4,7 @@
 // the scenes of a block of a few hundred advanced together: each runs until it needs forecasts, and
 // the forecasts of every waiting scene come from a few batched passes of the predictor, instead of one
 // small pass per scene and time. Scenes are independent, and Φ computes each object from its own
-// graph alone (learn/motion_inference.hpp), so the result is bitwise that of running each scene's
+// graph alone (model/motion_inference.hpp), so the result is bitwise that of running each scene's
 // filter alone.
 //
 // Delivery. Without arrival times (no row has one), each scene's rows are given step by step in time
@@ -16,7 +16,7 @@
 // with the row's index as id).
 //
 // In parts. The scenes of a list are advanced kScenesPerFilterBlock at a time. Φ computes each object
-// from its own graph alone (learn/motion_inference.hpp), so a long list given in parts of whole
+// from its own graph alone (model/motion_inference.hpp), so a long list given in parts of whole
 // scenes, of any sizes, gets the estimates of one call over the whole list, bit for bit: `stgf run`
 // reads its file in parts of kScenesPerFilterBlock scenes (DESIGN §3.8).
 

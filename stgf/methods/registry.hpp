@@ -39,7 +39,7 @@ struct MethodConfig {
 const std::vector<std::string>& method_names();
 
 // Every method `stgf run` knows, in the order tables list them: aom, wls, mmt (model-free, above)
-// and sttp, ours-l, ours (they need the learned motion model: stgf/learn/named_methods.hpp).
+// and sttp, ours-l, ours (they need the learned motion model: stgf/model/named_methods.hpp).
 const std::vector<std::string>& all_method_names();
 bool is_learned_method(const std::string& name);
 

@@ -3,7 +3,7 @@
 // grid, are exactly those (and in the order) that comparing every pair gives — for spread, clustered,
 // collinear and coincident objects — and every edge list is grouped by target.
 
-#include "stgf/learn/motion_features.hpp"
+#include "stgf/model/motion_features.hpp"
 
 #include <algorithm>
 #include <random>

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: Apache-2.0
-// The motion graphs of a measurement list (learn/motion_graphs.hpp): hand-built cases whose graphs
+// The motion graphs of a measurement list (model/motion_graphs.hpp): hand-built cases whose graphs
 // are written out in full, and a synthetic benchmark checked against a brute-force reference.
 
 #include <gtest/gtest.h>
@@ -15,7 +15,7 @@
 #include "stgf/core/multi_view_update.hpp"
 #include "stgf/datasets/synthetic.hpp"
 #include "stgf/io/truth_file.hpp"
-#include "stgf/learn/motion_graphs.hpp"
+#include "stgf/model/motion_graphs.hpp"
 
 namespace stgf {
 namespace {

@@ -5,7 +5,7 @@
 // object's forecast independent of what else is in the batch, and the model's forecast following
 // the weights as training changes them.
 
-#include "stgf/learn/motion_inference.hpp"
+#include "stgf/model/motion_inference.hpp"
 
 #include <random>
 

@@ -143,6 +143,65 @@ TEST(MotionModel, SaveThenLoadGivesIdenticalPredictions) {
   EXPECT_EQ(loaded.shape().hidden, 8);
 }
 
+// The model file read without LibTorch (model/trained_motion_model.hpp) is the model LibTorch reads
+// and the model that wrote it: the same settings and, bit for bit, the same forecasts.
+TEST(TrainedMotionModel, IsTheSavedModelBitForBit) {
+  MotionModel model(tiny_shape(), MotionNormalisation{1.3, 0.4, 5.0, 1.2}, 11);
+  Matrix3d q;
+  q << 0.02, 0.001, 0, 0.001, 0.03, 0, 0, 0, 0.01;
+  model.set_process_noise(q, 0.4);
+  const std::string path = scratch("trained.pt").string();
+  model.save(path, {{"input", "fused"}});
+  const TrainedMotionModel trained = TrainedMotionModel::load(path);
+  const MotionModel loaded = MotionModel::load(path);
+  fs::remove(path);
+  const std::vector<MotionGraph> graphs = graphs_only(turning_graphs(6, 5));
+  const auto expected = model.forecast(graphs);
+  for (const auto& forecasts : {trained.forecast(graphs), loaded.forecast(graphs), model.trained().forecast(graphs)}) {
+    ASSERT_EQ(forecasts.size(), expected.size());
+    for (std::size_t g = 0; g < expected.size(); ++g) {
+      ASSERT_EQ(forecasts[g].size(), expected[g].size());
+      for (std::size_t i = 0; i < expected[g].size(); ++i) {
+        EXPECT_EQ(forecasts[g][i].acceleration, expected[g][i].acceleration);
+        EXPECT_EQ(forecasts[g][i].velocity, expected[g][i].velocity);
+      }
+    }
+  }
+  EXPECT_EQ(trained.process_noise(0.8), loaded.process_noise(0.8));
+  EXPECT_EQ(trained.prediction_horizon(), loaded.prediction_horizon());
+  EXPECT_EQ(trained.history_spacing(), loaded.history_spacing());
+  EXPECT_EQ(trained.history_positions(), loaded.history_positions());
+  EXPECT_EQ(trained.metadata(), loaded.metadata());
+}
+
+// The LibTorch-free reader's list of the network's weights is the network's own, in its order (the
+// checksum runs over them in that order).
+TEST(TrainedMotionModel, KnowsTheNetworksParametersInOrder) {
+  for (const MotionModelShape& shape : {tiny_shape(), MotionModelShape{}}) {
+    const MotionModel model(shape, MotionNormalisation{}, 1);
+    const auto parameters = model.impl().network->named_parameters();
+    const std::vector<MotionNetworkParameter> listed = motion_network_parameters(shape);
+    ASSERT_EQ(listed.size(), parameters.size());
+    for (std::size_t k = 0; k < listed.size(); ++k) {
+      EXPECT_EQ(listed[k].name, parameters[k].key());
+      EXPECT_EQ(listed[k].sizes, parameters[k].value().sizes().vec()) << listed[k].name;
+    }
+  }
+}
+
+// The fixture of the LibTorch-free tests (tests/model/data) reads the same with LibTorch.
+TEST(TrainedMotionModel, TheFixtureReadsTheSameWithLibTorch) {
+  const std::string path = std::string(STGF_SOURCE_DIR) + "/tests/model/data/tiny-motion-model.pt";
+  const TrainedMotionModel trained = TrainedMotionModel::load(path);
+  const MotionModel loaded = MotionModel::load(path);
+  const std::vector<MotionGraph> graphs = graphs_only(turning_graphs(4, 5));
+  const auto a = trained.forecast(graphs);
+  const auto b = loaded.forecast(graphs);
+  for (std::size_t g = 0; g < a.size(); ++g) {
+    for (std::size_t i = 0; i < a[g].size(); ++i) EXPECT_EQ(a[g][i].acceleration, b[g][i].acceleration);
+  }
+}
+
 // The step period is the median training interval; the horizon's base, the 99th percentile, so one
 // long gap in the training data does not stretch it.
 TEST(MotionModel, NormalisationMeasuresPeriodAndLongestInterval) {

@@ -4,14 +4,15 @@
 // passes see the same graphs. With more scenes than one block of the filter runner, and more graphs
 // than one forward pass of sttp, so that the parts' boundaries fall inside the batching.
 
-#include "stgf/learn/named_methods.hpp"
+#include "stgf/model/named_methods.hpp"
 
 #include <gtest/gtest.h>
 
 #include "stgf/datasets/synthetic.hpp"
-#include "stgf/learn/learned_methods.hpp"
-#include "stgf/learn/motion_graphs.hpp"
+#include "stgf/model/learned_methods.hpp"
+#include "stgf/model/motion_graphs.hpp"
 #include "stgf/methods/filter_runner.hpp"
+#include "stgf/learn/motion_model.hpp"
 
 namespace stgf {
 namespace {
@@ -47,13 +48,13 @@ std::vector<std::span<const Measurement>> parts_of(std::span<const Measurement> 
   return parts;
 }
 
-const MotionModel& model() {
-  static const MotionModel loaded = [] {
+const TrainedMotionModel& model() {
+  static const TrainedMotionModel trained = [] {
     MotionModelShape shape;
     shape.history_length = 4;
-    return MotionModel(shape, MotionNormalisation{1.2, 0.1, 5.0, 0.1}, 7);
+    return MotionModel(shape, MotionNormalisation{1.2, 0.1, 5.0, 0.1}, 7).trained();
   }();
-  return loaded;
+  return trained;
 }
 
 void expect_identical(const std::vector<Gaussian3>& a, const std::vector<Gaussian3>& b, const std::string& what) {

@@ -1,10 +1,10 @@
 // SPDX-License-Identifier: Apache-2.0
-// The registration prior in a model file's metadata (learn/registration_metadata.hpp): round trip,
+// The registration prior in a model file's metadata (model/registration_metadata.hpp): round trip,
 // absent, malformed; and the prior `ours` runs with once the config's settings are applied.
 
 #include <gtest/gtest.h>
 
-#include "stgf/learn/registration_metadata.hpp"
+#include "stgf/model/registration_metadata.hpp"
 #include "support/input_errors.hpp"
 
 namespace stgf {

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: Apache-2.0
-#include "stgf/learn/motion_graphs.hpp"
+#include "stgf/model/motion_graphs.hpp"
 
 #include <algorithm>
 #include <charconv>

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: Apache-2.0
-#include "stgf/learn/motion_inference.hpp"
+#include "stgf/model/motion_inference.hpp"
 
 #include <algorithm>
 #include <cmath>

@@ -16,14 +16,14 @@
 #include <vector>
 
 #include "stgf/core/records.hpp"
-#include "stgf/learn/motion_graphs.hpp"
-#include "stgf/learn/motion_model.hpp"
+#include "stgf/model/motion_graphs.hpp"
+#include "stgf/model/trained_motion_model.hpp"
 
 namespace stgf {
 
 // One estimate per measurement row, in order. `restarted_tracks` (if given) receives how many tracks
 // started again after a gap longer than the model's horizon.
-std::vector<Gaussian3> run_single_view_prediction(const MotionModel& model,
+std::vector<Gaussian3> run_single_view_prediction(const TrainedMotionModel& model,
                                           std::span<const Measurement> measurements,
                                           std::size_t* restarted_tracks = nullptr);
 
@@ -37,7 +37,7 @@ class SingleViewPredictionStream {
  public:
   static constexpr std::size_t kGraphsPerForwardPass = 4096;
 
-  explicit SingleViewPredictionStream(const MotionModel& model);  // `model` must outlive the stream
+  explicit SingleViewPredictionStream(const TrainedMotionModel& model);  // `model` must outlive the stream
 
   // Takes the next part; returns the estimates now complete, one per row, in list order, following
   // those returned before.
@@ -59,7 +59,7 @@ class SingleViewPredictionStream {
   // Moves the estimates of the complete parts at the front into `estimates`.
   void take_complete(std::vector<Gaussian3>& estimates);
 
-  const MotionModel& model_;
+  const TrainedMotionModel& model_;
   std::deque<Part> parts_;     // parts whose estimates are not all out, in order
   std::size_t waiting_ = 0;    // graphs of those parts not through Φ yet
   std::size_t restarted_tracks_ = 0;

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: Apache-2.0
-#include "stgf/learn/registration_metadata.hpp"
+#include "stgf/model/registration_metadata.hpp"
 
 #include <cmath>
 

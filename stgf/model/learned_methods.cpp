@@ -1,12 +1,12 @@
 // SPDX-License-Identifier: Apache-2.0
-#include "stgf/learn/learned_methods.hpp"
+#include "stgf/model/learned_methods.hpp"
 
 #include <algorithm>
 #include <iterator>
 
 namespace stgf {
 
-std::vector<Gaussian3> run_single_view_prediction(const MotionModel& model, std::span<const Measurement> measurements,
+std::vector<Gaussian3> run_single_view_prediction(const TrainedMotionModel& model, std::span<const Measurement> measurements,
                                                   std::size_t* restarted_tracks) {
   SingleViewPredictionStream stream(model);
   std::vector<Gaussian3> estimates = stream.add(measurements);
@@ -16,7 +16,7 @@ std::vector<Gaussian3> run_single_view_prediction(const MotionModel& model, std:
   return estimates;
 }
 
-SingleViewPredictionStream::SingleViewPredictionStream(const MotionModel& model) : model_(model) {}
+SingleViewPredictionStream::SingleViewPredictionStream(const TrainedMotionModel& model) : model_(model) {}
 
 std::vector<Gaussian3> SingleViewPredictionStream::add(std::span<const Measurement> rows) {
   Part part;

@@ -1,19 +1,19 @@
 // SPDX-License-Identifier: Apache-2.0
-#include "stgf/learn/named_methods.hpp"
+#include "stgf/model/named_methods.hpp"
 
 #include <iterator>
 #include <stdexcept>
 
-#include "stgf/learn/learned_methods.hpp"
-#include "stgf/learn/registration_metadata.hpp"
+#include "stgf/model/learned_methods.hpp"
+#include "stgf/model/registration_metadata.hpp"
 #include "stgf/methods/filter_runner.hpp"
 #include "stgf/methods/run_method.hpp"
 
 namespace stgf {
 
-MotionModel load_model_for(const std::string& method, const std::string& model_path) {
+TrainedMotionModel load_model_for(const std::string& method, const std::string& model_path) {
   if (model_path.empty()) throw std::invalid_argument("--method " + method + " needs --model");
-  MotionModel model = MotionModel::load(model_path);
+  TrainedMotionModel model = TrainedMotionModel::load(model_path);
   const std::string wanted = method == "sttp" ? "raw" : "fused";
   const std::string trained = model.metadata().value("input", "");
   if (trained != wanted) {
@@ -47,7 +47,7 @@ void MethodRunReport::add(const MethodRunReport& later) {
   scenes_without_prior_scale += later.scenes_without_prior_scale;
 }
 
-std::vector<Gaussian3> run_named_method(const std::string& method, const MethodConfig& config, const MotionModel* model,
+std::vector<Gaussian3> run_named_method(const std::string& method, const MethodConfig& config, const TrainedMotionModel* model,
                                         const std::string& model_path, std::span<const Measurement> rows,
                                         MethodRunReport* report) {
   NamedMethodRun run(method, config, model, model_path);
@@ -58,7 +58,7 @@ std::vector<Gaussian3> run_named_method(const std::string& method, const MethodC
   return estimates;
 }
 
-NamedMethodRun::NamedMethodRun(const std::string& method, const MethodConfig& config, const MotionModel* model,
+NamedMethodRun::NamedMethodRun(const std::string& method, const MethodConfig& config, const TrainedMotionModel* model,
                                const std::string& model_path)
     : method_(method), config_(config), model_(model), model_path_(model_path) {
   if (is_learned_method(method_) && model_ == nullptr) throw std::invalid_argument("--method " + method_ + " needs --model");

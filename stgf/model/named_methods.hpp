@@ -13,14 +13,14 @@
 #include "stgf/core/records.hpp"
 #include "stgf/core/view_noise_scales.hpp"
 #include "stgf/core/scene_filter.hpp"
-#include "stgf/learn/motion_model.hpp"
+#include "stgf/model/trained_motion_model.hpp"
 #include "stgf/methods/registry.hpp"
 
 namespace stgf {
 
 // Loads the model a learned method needs and checks it was trained on the right input (raw for sttp,
 // fused for ours-l and ours); InputError or std::invalid_argument naming the file otherwise.
-MotionModel load_model_for(const std::string& method, const std::string& model_path);
+TrainedMotionModel load_model_for(const std::string& method, const std::string& model_path);
 
 // The spatiotemporal graph filter's options from the `ours:` settings: the registration prior is the
 // model's calibration (its `metadata`, an empty object without a model) with the settings' overrides
@@ -46,7 +46,7 @@ struct MethodRunReport {
 // otherwise); `model_path` names it in messages. ours-l is the filter's prediction of each row before
 // the update at its time (the row's own fused estimate where there is nothing to predict from).
 // A late row under LatePolicy::kStop throws LateMeasurementError.
-std::vector<Gaussian3> run_named_method(const std::string& method, const MethodConfig& config, const MotionModel* model,
+std::vector<Gaussian3> run_named_method(const std::string& method, const MethodConfig& config, const TrainedMotionModel* model,
                                         const std::string& model_path, std::span<const Measurement> rows,
                                         MethodRunReport* report = nullptr);
 
@@ -55,14 +55,14 @@ class SingleViewPredictionStream;  // learned_methods.hpp
 // run_named_method over a list given in parts, each part whole scenes, the parts in list order (a
 // file read a block of scenes at a time: `stgf run`, DESIGN §3.8). The estimates are those of one
 // run over the whole list, bit for bit, whatever the parts' sizes: Φ computes each object from its own
-// graph (learn/motion_inference.hpp), whatever else is in a pass; `sttp` continues its passes across
+// graph (model/motion_inference.hpp), whatever else is in a pass; `sttp` continues its passes across
 // parts on its own (SingleViewPredictionStream); the other methods treat each scene alone. report()
 // adds up what every part did.
 class NamedMethodRun {
  public:
   // Checks as run_named_method does (a learned method without a model: std::invalid_argument).
   // `model` must outlive the run.
-  NamedMethodRun(const std::string& method, const MethodConfig& config, const MotionModel* model,
+  NamedMethodRun(const std::string& method, const MethodConfig& config, const TrainedMotionModel* model,
                  const std::string& model_path);
   ~NamedMethodRun();
 
@@ -77,7 +77,7 @@ class NamedMethodRun {
  private:
   std::string method_;
   MethodConfig config_;
-  const MotionModel* model_;
+  const TrainedMotionModel* model_;
   std::string model_path_;
   std::unique_ptr<SingleViewPredictionStream> single_view_;  // sttp
   MethodRunReport report_;

@@ -21,7 +21,7 @@
 
 #include <Eigen/Dense>
 
-#include "stgf/learn/motion_features.hpp"
+#include "stgf/model/motion_features.hpp"
 
 namespace stgf {
 

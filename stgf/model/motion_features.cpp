@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: Apache-2.0
-#include "stgf/learn/motion_features.hpp"
+#include "stgf/model/motion_features.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -7,7 +7,7 @@
 #include <stdexcept>
 #include <utility>
 
-#include "stgf/learn/motion_model.hpp"
+#include "stgf/model/trained_motion_model.hpp"
 
 namespace stgf {
 namespace {
