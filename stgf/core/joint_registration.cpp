@@ -35,13 +35,18 @@ struct ConditionalTerm {
 template <class Blocks, class AddBlock, class AddVector>
 void add_own_terms(const Blocks& blocks, const Matrix36& h, const Matrix3d& weight, const Vector3d& z,
                    AddBlock&& add_block, AddVector&& add_vector) {
+  // Fixed-size products on the padded bases (zero columns past a block's size): unrolled, and the
+  // padding's rows and columns of each term are dropped.
   for (const auto& row : blocks) {
-    const BlockColumns g_row = h * row.basis;
-    const BlockColumns weighted_row = weight * g_row;  // W G
-    add_vector(row.start, BlockVector(weighted_row.transpose() * z));
+    const Matrix36 g_row = h * row.padded_basis;
+    const Matrix36 weighted_row = weight * g_row;  // W G
+    const Eigen::Matrix<double, 6, 1> vector = weighted_row.transpose() * z;
+    add_vector(row.start, BlockVector(vector.head(row.size())));
     for (const auto& column : blocks) {
       if (column.start > row.start) continue;
-      add_block(row.start, column.start, OffsetInformationBlock(weighted_row.transpose() * (h * column.basis)));
+      const Eigen::Matrix<double, 6, 6> block =
+          weighted_row.transpose() * (column.start == row.start ? g_row : Matrix36(h * column.padded_basis));
+      add_block(row.start, column.start, OffsetInformationBlock(block.topLeftCorner(row.size(), column.size())));
     }
   }
 }
@@ -126,7 +131,9 @@ void JointRegistration::add_block(ViewBlocks& view, const Eigen::Matrix<double, 
     object.offsets.conservativeResize(Eigen::NoChange, start + size);
     object.offsets.rightCols(size).setZero();  // no position depends on the new block
   }
-  view.blocks.push_back({start, std::move(basis)});
+  Eigen::Matrix<double, 6, 6> padded = Eigen::Matrix<double, 6, 6>::Zero();
+  padded.leftCols(size) = basis;
+  view.blocks.push_back({start, std::move(basis), padded});
 }
 
 const JointRegistration::ViewBlocks* JointRegistration::add_view(std::string_view view) {
@@ -237,7 +244,6 @@ void JointRegistration::update(std::span<const Measurement* const> measurements,
   const Matrix3d prior_information = prior_whitening.transpose() * prior_whitening;  // P⁻¹
   Matrix3d information = prior_information;           // then P'⁻¹
   Vector3d information_mean = information * object.mean;  // P⁻¹ â, then P'⁻¹ â'
-  Eigen::MatrixXd& information_matrix = offsets_information_;  // the own terms add to it at once (pending ones commute)
   Eigen::VectorXd& information_vector = offsets_information_vector_;
   std::vector<Matrix3d> noise_inverses(measurements.size());
   std::vector<Matrix36> jacobians(measurements.size());
@@ -248,16 +254,17 @@ void JointRegistration::update(std::span<const Measurement* const> measurements,
     const Cholesky3 noise_factor(noise_scales[k] * measurement.position.covariance());  // R_k
     if (!noise_factor.ok()) throw std::runtime_error("registration: a measurement's covariance is not positive definite");
     noise_inverses[k] = noise_factor.inverse();  // R_k⁻¹
-    // The view's own term: G_kᵀ R_k⁻¹ G_k and G_kᵀ R_k⁻¹ z_k (lower triangle of M).
+    // The view's own term: G_kᵀ R_k⁻¹ G_k and G_kᵀ R_k⁻¹ z_k with G_k = H_k × a block's basis: H_kᵀ R_k⁻¹ H_k
+    // joins the view's pending sum (added to M's blocks of the view when M is next folded), and
+    // the vector goes to m now.
     if (views[k] != nullptr) {
-      add_own_terms(
-          views[k]->blocks, jacobians[k], noise_inverses[k], z,
-          [&information_matrix](Eigen::Index row, Eigen::Index column, const OffsetInformationBlock& block) {
-            information_matrix.block(row, column, block.rows(), block.cols()) += block;
-          },
-          [&information_vector](Eigen::Index row, const BlockVector& segment) {
-            information_vector.segment(row, segment.size()) += segment;
-          });
+      const Matrix36 weighted = noise_inverses[k] * jacobians[k];  // R_k⁻¹ H_k
+      views[k]->pending_information.noalias() += jacobians[k].transpose() * weighted;
+      views[k]->has_pending_information = true;
+      const Eigen::Matrix<double, 6, 1> vector = weighted.transpose() * z;
+      for (const OffsetBlock& block : views[k]->blocks) {
+        information_vector.segment(block.start, block.size()).noalias() += block.basis.transpose() * vector;
+      }
     }
     information += noise_inverses[k];
     information_mean.noalias() += noise_inverses[k] * z;
@@ -273,7 +280,8 @@ void JointRegistration::update(std::span<const Measurement* const> measurements,
     if (views[k] == nullptr) continue;
     const Matrix3d gain = covariance * noise_inverses[k];  // P' R_k⁻¹
     for (const OffsetBlock& block : views[k]->blocks) {
-      object.offsets.middleCols(block.start, block.basis.cols()).noalias() -= gain * (jacobians[k] * block.basis);
+      const Matrix36 change = gain * (jacobians[k] * block.padded_basis);
+      object.offsets.middleCols(block.start, block.size()) -= change.leftCols(block.size());
     }
   }
   object.mean = covariance * information_mean;
@@ -296,6 +304,21 @@ void JointRegistration::update(std::span<const Measurement* const> measurements,
 }
 
 void JointRegistration::fold_pending_terms() const {
+  // The views' own terms: basis_bᵀ (Σ_k H_kᵀ R_k⁻¹ H_k) basis_b' on each pair of the view's blocks.
+  for (const auto& [name, view] : views_) {
+    if (!view.has_pending_information) continue;
+    for (const OffsetBlock& row : view.blocks) {
+      const Eigen::Matrix<double, Eigen::Dynamic, 6, Eigen::ColMajor, 6, 6> weighted =
+          row.basis.transpose() * view.pending_information;
+      for (const OffsetBlock& column : view.blocks) {
+        if (column.start > row.start) continue;  // the lower triangle
+        offsets_information_.block(row.start, column.start, row.size(), column.size()).noalias() +=
+            weighted * column.basis;
+      }
+    }
+    view.pending_information.setZero();
+    view.has_pending_information = false;
+  }
   if (pending_added_.empty()) return;
   const Eigen::Index size = offsets_information_.rows();
   const auto columns = static_cast<Eigen::Index>(pending_added_.size()) / size;

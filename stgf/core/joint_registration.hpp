@@ -145,6 +145,10 @@ class JointRegistration {
   struct OffsetBlock {
     Eigen::Index start;
     Eigen::Matrix<double, 6, Eigen::Dynamic> basis;
+    // The basis with zero columns up to 6: a measurement's G on the block is then a fixed-size
+    // product, H_u (3 × 6) times this, whose first basis.cols() columns are G.
+    Eigen::Matrix<double, 6, 6> padded_basis;
+    Eigen::Index size() const { return basis.cols(); }
   };
   // A view's offset is Σ basis β_block over its blocks: its own — only the directions in which the
   // prior has variance (a zero σ_z keeps t_z at exactly zero, so it costs nothing) — and the
@@ -155,6 +159,10 @@ class JointRegistration {
     // and a measurement's C Σ_β Cᵀ = ‖W_i + Y_u H_uᵀ‖² in O(c).
     mutable Eigen::Matrix<double, Eigen::Dynamic, 6> whitened_selector;
     mutable std::uint64_t whitened_version = 0;
+    // Σ_k H_kᵀ R_k⁻¹ H_k over the view's measurements fused since M was last folded: their own terms
+    // of M, added to the view's blocks at once (fold_pending_terms) instead of one block write each.
+    mutable Eigen::Matrix<double, 6, 6> pending_information = Eigen::Matrix<double, 6, 6>::Zero();
+    mutable bool has_pending_information = false;
   };
   const ViewBlocks* add_view(std::string_view view);  // none for a zero prior
   const ViewBlocks* view_blocks(std::string_view view) const;  // none when unknown
@@ -176,7 +184,7 @@ class JointRegistration {
   const Eigen::Matrix<double, Eigen::Dynamic, 6>& whitened_selector(const ViewBlocks& view) const;
   // Factors M and solves for β̂, if M changed since (folding in the pending rank-3 terms first).
   void refresh() const;
-  // M += U₊U₊ᵀ − U₋U₋ᵀ over the pending columns; then none are pending.
+  // M += the views' pending own terms, and U₊U₊ᵀ − U₋U₋ᵀ over the pending columns; then none are pending.
   void fold_pending_terms() const;
 
   RegistrationPrior prior_;

@@ -10,9 +10,19 @@ namespace stgf {
 using Matrix36 = Eigen::Matrix<double, 3, 6>;
 
 Matrix36 offset_jacobian(const Matrix3d& measurement_covariance) {
+  // [I₃ L], L the Cholesky factor of R, written out (called for every measurement, several times), in
+  // the order of operations of Eigen's LLT, which it replaces: the same bits.
+  const Matrix3d& a = measurement_covariance;
+  const double l00 = std::sqrt(a(0, 0));
+  const double l10 = a(1, 0) / l00;
+  const double l20 = a(2, 0) / l00;
+  const double l11 = std::sqrt(a(1, 1) - l10 * l10);
+  const double l21 = (a(2, 1) - l20 * l10) / l11;
+  const double l22 = std::sqrt(a(2, 2) - (l20 * l20 + l21 * l21));
   Matrix36 jacobian;
-  jacobian.leftCols<3>().setIdentity();
-  jacobian.rightCols<3>() = measurement_covariance.llt().matrixL();
+  jacobian << 1, 0, 0, l00, 0, 0,  //
+      0, 1, 0, l10, l11, 0,        //
+      0, 0, 1, l20, l21, l22;
   return jacobian;
 }
 

@@ -68,6 +68,20 @@ Vector3d uniform_point(std::mt19937_64& rng, double half_width) {
   return Vector3d(uniform(rng), uniform(rng), uniform(rng));
 }
 
+// H = [I₃ L] with L the Cholesky factor of R: written out, the bits of Eigen's LLT, over covariances
+// of every scale and condition the readers accept.
+TEST(ViewRegistration, OffsetJacobianHoldsEigensCholeskyFactorBitForBit) {
+  std::mt19937_64 rng(17);
+  for (int trial = 0; trial < 2000; ++trial) {
+    const double scale = std::pow(10.0, -6.0 + 12.0 * (trial % 100) / 99.0);
+    const Matrix3d r = random_spd(rng, scale, trial % 2 == 0 ? 10.0 : 1e6);
+    const Eigen::Matrix<double, 3, 6> h = offset_jacobian(r);
+    const Matrix3d l = r.llt().matrixL();
+    EXPECT_EQ(h.leftCols<3>(), Matrix3d::Identity());
+    ASSERT_EQ(h.rightCols<3>(), l) << "R =\n" << r;
+  }
+}
+
 TEST(ViewRegistration, ZeroPriorIsTheInformationWeightedMeanAndLearnsNothing) {
   std::mt19937_64 rng(11);
   ViewRegistration registration(RegistrationPrior{});
