@@ -1,8 +1,9 @@
 #!/usr/bin/env bash
 # SPDX-License-Identifier: Apache-2.0
 # The test suite under AddressSanitizer + UndefinedBehaviorSanitizer, in build-sanitize/: everything
-# that does not need LibTorch (core, methods, io, datasets and the CLI; LibTorch itself is not
-# instrumented, and Φ's tests run under the release build). Any report fails the run.
+# that does not need LibTorch (core, methods, io, datasets, model — a trained Φ read and run — the
+# examples and the CLI; LibTorch itself is not instrumented, so training's tests run under the release
+# build only). Any report fails the run. scripts/test.sh (CI) runs it.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 if [ ! -f build-sanitize/CMakeCache.txt ]; then

@@ -5,6 +5,8 @@
 #     (results must not depend on the thread count or the BLAS kernel choice);
 #   - the core, the methods and the trained model's reader built and tested without LibTorch (build-core/,
 #     -DSTGF_WITH_LIBTORCH=OFF), and `stgf run --method ours` run there;
+#   - everything that does not need LibTorch (all but training) again under ASan + UBSan
+#     (scripts/sanitize.sh, build-sanitize/): any report fails the run;
 #   - every reader fuzzed for 10 s (scripts/fuzz.sh: libFuzzer with ASan + UBSan, and the model file's
 #     mutation harness).
 set -euo pipefail
@@ -33,6 +35,9 @@ build-core/tests/test_model --gtest_brief=1
 rm -rf build-core/sample && build-core/stgf dataset synthetic --out build-core/sample --seed 1 --scenes 2 --steps 20 -q
 build-core/stgf run --method ours --model tests/model/data/tiny-motion-model.pt \
   --measurements build-core/sample/test/measurements.csv --out build-core/sample/ours.csv -q
+
+echo "== the suite under AddressSanitizer + UndefinedBehaviorSanitizer (scripts/sanitize.sh, build-sanitize/)"
+scripts/sanitize.sh
 
 echo "== a short fuzzing run of every reader (scripts/fuzz.sh; longer runs: scripts/fuzz.sh SECONDS)"
 scripts/fuzz.sh 10

@@ -50,7 +50,9 @@
 // Cost, with n the scene's views, c ≤ 6n the offsets' dimension, m the scene's objects and k the
 // measurements of an object at one time: an update costs O(c + k) for the conditional (B' is one
 // 3 × 3 product with B and a block per view) and two rank-3 terms of M, O(c²), whatever k and m —
-// kept pending and added for all of an event's objects at once, as two blocked rank updates; reading
+// kept pending and added for all of an event's objects at once, as two blocked rank updates (each
+// measurement's own term G_kᵀR_k⁻¹G_k, on its view's blocks, joins a 6 × 6 sum per view, added to
+// M once per fold); reading
 // a position O(c²) (an event's positions in one blocked solve), an innovation O(c) after it (the
 // view's L⁻¹E_uᵀ is kept per factorisation); refactoring M O(c³), once per event that changed it;
 // predict O(1); memory O(c² + m c). So one event of m objects each seen by k views costs
