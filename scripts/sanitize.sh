@@ -7,8 +7,10 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 if [ ! -f build-sanitize/CMakeCache.txt ]; then
-  cmake -S . -B build-sanitize -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DSTGF_SANITIZE=ON -DSTGF_WITH_LIBTORCH=OFF \
-    -DSTGF_BUILD_PYTHON=OFF -DSTGF_BUILD_BENCHMARKS=OFF >/dev/null
+  # -O1 -g1 (line tables): half the compile time of -O2 -g under the sanitizers, the reports still
+  # name file and line.
+  cmake -S . -B build-sanitize -G Ninja -DCMAKE_BUILD_TYPE=None -DCMAKE_CXX_FLAGS="-O1 -g1" -DSTGF_SANITIZE=ON \
+    -DSTGF_WITH_LIBTORCH=OFF -DSTGF_BUILD_PYTHON=OFF -DSTGF_BUILD_BENCHMARKS=OFF >/dev/null
 fi
 cmake --build build-sanitize --parallel "$(nproc)"
 export ASAN_OPTIONS=detect_leaks=1:abort_on_error=1:strict_string_checks=1
