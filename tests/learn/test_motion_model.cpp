@@ -119,13 +119,19 @@ TEST(MotionModel, GradientsReachEveryParameter) {
   }
 }
 
-TEST(MotionModel, SaveThenLoadGivesIdenticalPredictions) {
-  MotionModel model(tiny_shape(), MotionNormalisation{1.3, 0.4, 5.0, 1.2}, 4);
-  Matrix3d q;
-  q << 0.02, 0.001, 0, 0.001, 0.03, 0, 0, 0, 0.01;
-  model.set_process_noise(q, 0.4);
-  const std::string path = scratch("model.pt").string();
+// A small model with a stated Q (kQ at 0.4 s), saved to `path`.
+const Matrix3d kQ = (Matrix3d() << 0.02, 0.001, 0, 0.001, 0.03, 0, 0, 0, 0.01).finished();
+MotionModel saved_model(std::uint64_t seed, const std::string& path) {
+  MotionModel model(tiny_shape(), MotionNormalisation{1.3, 0.4, 5.0, 1.2}, seed);
+  model.set_process_noise(kQ, 0.4);
   model.save(path, {{"input", "fused"}});
+  return model;
+}
+
+TEST(MotionModel, SaveThenLoadGivesIdenticalPredictions) {
+  const std::string path = scratch("model.pt").string();
+  const MotionModel model = saved_model(4, path);
+  const Matrix3d& q = kQ;
   const MotionModel loaded = MotionModel::load(path);
   fs::remove(path);
   const std::vector<MotionGraph> graphs = graphs_only(turning_graphs(5, 5));
@@ -146,12 +152,8 @@ TEST(MotionModel, SaveThenLoadGivesIdenticalPredictions) {
 // The model file read without LibTorch (model/trained_motion_model.hpp) is the model LibTorch reads
 // and the model that wrote it: the same settings and, bit for bit, the same forecasts.
 TEST(TrainedMotionModel, IsTheSavedModelBitForBit) {
-  MotionModel model(tiny_shape(), MotionNormalisation{1.3, 0.4, 5.0, 1.2}, 11);
-  Matrix3d q;
-  q << 0.02, 0.001, 0, 0.001, 0.03, 0, 0, 0, 0.01;
-  model.set_process_noise(q, 0.4);
   const std::string path = scratch("trained.pt").string();
-  model.save(path, {{"input", "fused"}});
+  const MotionModel model = saved_model(11, path);
   const TrainedMotionModel trained = TrainedMotionModel::load(path);
   const MotionModel loaded = MotionModel::load(path);
   fs::remove(path);

@@ -80,9 +80,12 @@ inline std::string zip_of(const std::vector<std::pair<std::string, std::string>>
   return out;
 }
 
-// `zip` with the stored record `name` given new bytes of the same size, and its CRC-32 fixed in both
-// headers.
-inline std::string with_record(std::string zip, const std::string& name, const std::string& bytes) {
+// Where the stored record `name` of `zip` is: its central directory entry, its local header, and
+// its bytes (start, size).
+struct RecordPlace {
+  std::size_t directory, local, start, size;
+};
+inline RecordPlace place_of(const std::string& zip, const std::string& name) {
   const auto u16 = [&](std::size_t at) {
     return static_cast<std::uint32_t>(static_cast<unsigned char>(zip[at]) | static_cast<unsigned char>(zip[at + 1]) << 8);
   };
@@ -93,39 +96,31 @@ inline std::string with_record(std::string zip, const std::string& name, const s
   for (std::uint32_t k = 0; k < u16(end + 10); ++k) {
     const std::size_t name_length = u16(at + 28);
     if (zip.compare(at + 46, name_length, name) == 0) {
-      if (u32(at + 24) != bytes.size()) throw std::logic_error("with_record: the record's size differs");
       const std::size_t local = u32(at + 42);
-      const std::size_t start = local + 30 + u16(local + 26) + u16(local + 28);
-      zip.replace(start, bytes.size(), bytes);
-      std::string crc;
-      put32(crc, crc32_of(bytes));
-      zip.replace(at + 16, 4, crc);
-      zip.replace(local + 14, 4, crc);
-      return zip;
+      return {at, local, local + 30 + u16(local + 26) + u16(local + 28), u32(at + 24)};
     }
     at += 46 + name_length + u16(at + 30) + u16(at + 32);
   }
-  throw std::logic_error("with_record: no record " + name);
+  throw std::logic_error("no record " + name);
+}
+
+// `zip` with the stored record `name` given new bytes of the same size, and its CRC-32 fixed in both
+// headers.
+inline std::string with_record(std::string zip, const std::string& name, const std::string& bytes) {
+  const RecordPlace place = place_of(zip, name);
+  if (place.size != bytes.size()) throw std::logic_error("with_record: the record's size differs");
+  zip.replace(place.start, bytes.size(), bytes);
+  std::string crc;
+  put32(crc, crc32_of(bytes));
+  zip.replace(place.directory + 16, 4, crc);
+  zip.replace(place.local + 14, 4, crc);
+  return zip;
 }
 
 // The bytes of the stored record `name` of `zip`.
 inline std::string record_of(const std::string& zip, const std::string& name) {
-  const auto u16 = [&](std::size_t at) {
-    return static_cast<std::uint32_t>(static_cast<unsigned char>(zip[at]) | static_cast<unsigned char>(zip[at + 1]) << 8);
-  };
-  const auto u32 = [&](std::size_t at) { return u16(at) | u16(at + 2) << 16; };
-  std::size_t end = zip.size() - 22;
-  while (u32(end) != 0x06054b50U) --end;
-  std::size_t at = u32(end + 16);
-  for (std::uint32_t k = 0; k < u16(end + 10); ++k) {
-    const std::size_t name_length = u16(at + 28);
-    if (zip.compare(at + 46, name_length, name) == 0) {
-      const std::size_t local = u32(at + 42);
-      return zip.substr(local + 30 + u16(local + 26) + u16(local + 28), u32(at + 24));
-    }
-    at += 46 + name_length + u16(at + 30) + u16(at + 32);
-  }
-  throw std::logic_error("record_of: no record " + name);
+  const RecordPlace place = place_of(zip, name);
+  return zip.substr(place.start, place.size);
 }
 
 }  // namespace stgf::testing
