@@ -104,7 +104,8 @@ void run(const RunOptions& options) {
   }
   const auto start = std::chrono::steady_clock::now();
   const MethodConfig config = options.config.empty() ? MethodConfig{} : read_method_config(options.config);
-  // Before anything is read: in `stgf`, a learned method hands the command line over to stgf-learned.
+  // Before anything is read: a learned method's model is loaded and checked (a bad model file is an error
+  // before any output).
   const std::unique_ptr<BlockMethod> method = is_learned_method(options.method)
                                                   ? prepare_learned_method(options.method, config, options.model)
                                                   : prepare_model_free_method(options.method, config);
