@@ -2,11 +2,8 @@
 #include "stgf/learn/motion_model.hpp"
 
 #include <algorithm>
-#include <optional>
 #include <iterator>
-#include <array>
 #include <cmath>
-#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <numeric>
