@@ -63,6 +63,12 @@ void log_gating(const std::string& method, const GateOptions& gate, const Gating
                  "prediction (more of them agreeing with each other than with it, or one view for several times)",
                  method, summary.restarts);
   }
+  if (summary.refilters > 0) {
+    spdlog::info("{}: went back over the lag window {} time(s) to fuse again what came since with what was learnt "
+                 "of a view (its noise understated, or its offset shifted since then); rows already estimated keep "
+                 "their estimates",
+                 method, summary.refilters);
+  }
 }
 
 }  // namespace stgf::cli

@@ -476,6 +476,25 @@ const Eigen::Matrix<double, Eigen::Dynamic, 6>& JointRegistration::whitened_sele
   return view.whitened_selector;
 }
 
+Matrix3d JointRegistration::offsets_covariance(std::span<const Measurement* const> measurements,
+                                               std::span<const Matrix3d> weights) const {
+  if (measurements.size() != weights.size()) throw std::invalid_argument("offsets_covariance: one weight per measurement");
+  Matrix3d covariance = Matrix3d::Zero();
+  if (prior_.is_zero()) return covariance;
+  refresh();
+  Eigen::Matrix<double, Eigen::Dynamic, 3> whitened = Eigen::Matrix<double, Eigen::Dynamic, 3>::Zero(offsets_mean_.size(), 3);
+  for (std::size_t k = 0; k < measurements.size(); ++k) {
+    const Matrix36 weighted = weights[k] * offset_jacobian(measurements[k]->position.covariance());
+    if (const ViewBlocks* view = view_blocks(measurements[k]->view); view != nullptr) {
+      whitened.noalias() += whitened_selector(*view) * weighted.transpose();
+    } else {
+      covariance.noalias() += weighted * prior_covariance() * weighted.transpose();
+    }
+  }
+  covariance.noalias() += whitened.transpose() * whitened;
+  return symmetrised(covariance);
+}
+
 Gaussian3 JointRegistration::corrected(const Measurement& measurement, double noise_scale) const {
   const Matrix3d& r = measurement.position.covariance();
   if (prior_.is_zero() && noise_scale == 1.0) return measurement.position;

@@ -125,6 +125,14 @@ class JointRegistration {
   std::vector<Gaussian3> positions(std::span<const std::string_view> objects) const;
   // A measurement alone, corrected by its view's offset: N(z − H_u β̂_u, μR + H_u Σ_uu H_uᵀ).
   Gaussian3 corrected(const Measurement& measurement, double noise_scale = 1.0) const;
+  // The covariance of Σ_k W_k H_k (β_k − β̂_k): what the offsets' errors add to a weighted sum of
+  // measurements of one object at one time, each corrected by its view's offset — e.g. one view's
+  // disagreement with the others' mean (W = I for it, minus the others' weights). It is
+  // ‖Σ_k Y_k H_kᵀ W_kᵀ‖² (Y_k = L⁻¹E_kᵀ), so the offset common to the views, which the combination
+  // cancels, is not counted as the measurements' own offset covariances H Σ_kk Hᵀ would count it. A
+  // view not yet seen adds W H (κ Σ₀) Hᵀ Wᵀ, independent of the rest. Zero for a zero prior. O(c) per
+  // measurement.
+  Matrix3d offsets_covariance(std::span<const Measurement* const> measurements, std::span<const Matrix3d> weights) const;
   // The estimated offset of `view` and its covariance (prior for an unknown view).
   Eigen::Matrix<double, 6, 1> offset(std::string_view view) const;
   Eigen::Matrix<double, 6, 6> offset_covariance(std::string_view view) const;

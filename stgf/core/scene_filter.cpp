@@ -76,7 +76,7 @@ SceneFilter::SceneFilter(const MotionPredictor& predictor, const FilterOptions& 
     : predictor_(predictor),
       options_(options),
       gate_(options.gate),
-      state_{{}, ViewRegistration(options.registration), JointRegistration(options.registration), {}, {}, 0, 0},
+      state_{{}, ViewRegistration(options.registration), JointRegistration(options.registration), {}, {}, 0, 0, {}},
       latest_time_(-std::numeric_limits<double>::infinity()) {
   if (!std::isfinite(options.lag_window) || options.lag_window < 0.0) {
     throw std::invalid_argument("the lag window must be finite and >= 0 seconds");
@@ -171,7 +171,10 @@ void SceneFilter::leave_out(const Measurement& measurement, std::size_t id) {
 }
 
 void SceneFilter::insert(Event event) {
-  if (event.time <= latest_time_ + kSameStepTolerance) rewind_to(event.time);
+  if (event.time <= latest_time_ + kSameStepTolerance) {
+    rewind_to(event.time);
+    ++rewinds_;
+  }
   auto position = queue_.begin();
   while (position != queue_.end() && position->time < event.time - kSameStepTolerance) ++position;
   // `event`'s rows are in (object, view) order; those of two events are merged into it.
@@ -202,7 +205,7 @@ void SceneFilter::rewind_to(double time) {
   }
   checkpoints_.erase(std::next(checkpoint), checkpoints_.end());
   latest_time_ = log_.empty() ? -std::numeric_limits<double>::infinity() : log_.back().time;
-  ++rewinds_;
+  for (const auto& [view, scale] : presumed_noise_scales_) state_.view_noise.presume(view, scale);
 }
 
 bool SceneFilter::advance() {
@@ -212,6 +215,17 @@ bool SceneFilter::advance() {
     if (!event.started) start(event);
     if (request_forecasts(event)) return false;
     process(event);
+    if (refilter_) {
+      // A view's noise was found understated, or its offset shifted some events ago: the filter goes
+      // back and takes the window again from then — this event too, whose rows not yet reported wait
+      // for it — with the learned scale or the release in place.
+      refilter_ = false;
+      event.started = false;
+      rewind_to(std::max(refilter_from_, checkpoints_.front().time));
+      refilter_from_ = std::numeric_limits<double>::infinity();
+      ++refilters_;
+      continue;
+    }
     latest_time_ = std::max(latest_time_, event.time);
     if (options_.lag_window > 0.0) log_.push_back(std::move(event));
     queue_.pop_front();
@@ -313,6 +327,8 @@ Eigen::Matrix<double, 6, 1> SceneFilter::registration_offset(std::string_view vi
 void SceneFilter::learn_view_noise(std::span<const Row> rows, const std::vector<Gaussian3>& alone,
                                    const std::vector<bool>& passes, double time) {
   if (!gate_.enabled() || rows.size() < 2) return;
+  std::vector<const Measurement*> combined;  // the view's measurement, then the others'
+  std::vector<Matrix3d> weights;
   for (std::size_t u = 0; u < rows.size(); ++u) {
     InformationSum others;
     for (std::size_t j = 0; j < rows.size(); ++j) {
@@ -322,11 +338,74 @@ void SceneFilter::learn_view_noise(std::span<const Row> rows, const std::vector<
     const Gaussian3 mean = others.solve();
     const Measurement& measurement = rows[u].measurement;
     const Matrix3d& noise = measurement.position.covariance();
-    // All of the disagreement's covariance but the view's own noise μR.
-    const Matrix3d rest = alone[u].covariance() + mean.covariance() - noise_scale(measurement.view) * noise;
-    const std::optional<Matrix3d> release =
-        state_.view_noise.add(measurement.view, time, alone[u].mean() - mean.mean(), rest, noise, /*separate_bias=*/joint());
-    if (release) state_.joint.release_offset(measurement.view, *release);
+    // ν = (z_u corrected) − Σ_j W_j (z_j corrected), W_j = (Σ I)⁻¹ I_j: all of its covariance but the
+    // view's own noise μR. Jointly, the others' noise Σ_j W_j μ_j R_j W_jᵀ, independent from one
+    // disagreement to the next, and the offsets' errors, which recur (offsets_covariance: the offset
+    // common to the views cancels); else the others' mean's covariance and the view's offset's, all
+    // taken to recur.
+    Matrix3d rest = alone[u].covariance() + mean.covariance() - noise_scale(measurement.view) * noise;
+    Matrix3d recurring = rest;
+    if (joint()) {
+      combined.assign(1, &measurement);
+      weights.assign(1, Matrix3d::Identity());
+      Matrix3d others_noise = Matrix3d::Zero();
+      for (std::size_t j = 0; j < rows.size(); ++j) {
+        if (j == u || !passes[j]) continue;
+        const Matrix3d weight = mean.covariance() * alone[j].information();
+        const Measurement& other = rows[j].measurement;
+        others_noise.noalias() += weight * (noise_scale(other.view) * other.position.covariance()) * weight.transpose();
+        combined.push_back(&other);
+        weights.push_back(-weight);
+      }
+      recurring = state_.joint.offsets_covariance(combined, weights);
+      rest = recurring + others_noise;
+    }
+    const std::optional<ViewNoiseScales::Release> release = state_.view_noise.add(
+        measurement.view, time, alone[u].mean() - mean.mean(), rest, recurring, noise, /*separate_bias=*/joint());
+    if (release) schedule_release(measurement.view, *release, time);
+    // A noise scale this large (and twice the one presumed so far) says the view's R was understated
+    // all along: what it already taught the tracks and the offsets is taught again with it.
+    const double scale = state_.view_noise.scale(measurement.view);
+    if (options_.lag_window > 0.0 && !release && scale >= kRefilterNoiseScale) {
+      double& presumed = presumed_noise_scales_[measurement.view];
+      if (scale >= 2.0 * presumed) {
+        presumed = scale;
+        refilter_from_ = -std::numeric_limits<double>::infinity();  // the whole window
+        refilter_ = true;
+      }
+    }
+  }
+}
+
+void SceneFilter::schedule_release(const std::string& view, const ViewNoiseScales::Release& release, double time) {
+  // A shift that began at an earlier event, within the window: the view's offset is released from
+  // then on, and the filter goes back to take what came since with it. Each such release of a view
+  // begins after the one before (so going back ends).
+  double latest = -std::numeric_limits<double>::infinity();
+  for (const ScheduledRelease& earlier : scheduled_releases_) {
+    if (earlier.view == view) latest = std::max(latest, earlier.time);
+  }
+  const double since = std::max(release.since, checkpoints_.empty() ? time : checkpoints_.front().time);
+  if (options_.lag_window > 0.0 && since < time - kSameStepTolerance && since > latest + kSameStepTolerance) {
+    state_.applied_releases.push_back(scheduled_releases_.size());  // not to be applied again before going back
+    scheduled_releases_.push_back(ScheduledRelease{view, since, release.covariance});
+    refilter_from_ = std::min(refilter_from_, since);
+    refilter_ = true;
+    return;
+  }
+  state_.joint.release_offset(view, release.covariance);
+}
+
+void SceneFilter::apply_scheduled_releases(double time) {
+  for (std::size_t k = 0; k < scheduled_releases_.size(); ++k) {
+    const ScheduledRelease& release = scheduled_releases_[k];
+    if (release.time > time + kSameStepTolerance ||
+        std::find(state_.applied_releases.begin(), state_.applied_releases.end(), k) != state_.applied_releases.end()) {
+      continue;
+    }
+    state_.joint.release_offset(release.view, release.covariance);
+    state_.view_noise.restart_after_release(release.view, time);
+    state_.applied_releases.push_back(k);
   }
 }
 
@@ -410,6 +489,7 @@ void SceneFilter::process_joint(Event& event) {
     checked.push_back(Checked{first, end, &track, std::move(prediction), std::move(decision)});
     first = end;
   }
+  if (refilter_) return;  // going back: the whole event comes again
   std::vector<const Measurement*> fused;
   std::vector<double> fused_scales;
   for (const Checked& object : checked) {
@@ -474,6 +554,7 @@ void SceneFilter::report(Event& event, std::size_t first, std::size_t end, const
 }
 
 void SceneFilter::process(Event& event) {
+  if (!scheduled_releases_.empty()) apply_scheduled_releases(event.time);
   if (joint()) {
     process_joint(event);
     return;
@@ -543,6 +624,7 @@ void SceneFilter::process(Event& event) {
       if (decision.checked) view_noise.count(event.rows[k].measurement.view, decision.passes[k - first]);
     }
     learn_view_noise(std::span(event.rows.data() + first, end - first), alone, decision.passes, time);
+    if (refilter_) return;  // going back: the rest of the event comes again
     if (decision.restart) {
       for (std::size_t t = 0; t < track_count; ++t) state_.tracks[key_of(event.rows[first + t].measurement)].clear();
       ++state_.restarted_tracks;

@@ -102,6 +102,9 @@ struct FilterOptions {
   GateOptions gate;                         // the χ² gate and the views' noise scales (off)
 };
 
+// A view's noise scale at which the filter goes back over its lag window (design §1.12).
+inline constexpr double kRefilterNoiseScale = 4.0;
+
 // Event time between checkpoints (s).
 inline constexpr double kCheckpointSpacing = 0.1;
 
@@ -149,6 +152,7 @@ class SceneFilter {
   std::size_t restarted_tracks() const { return state_.restarted_tracks; }
   std::size_t late_measurements() const { return late_measurements_; }  // too late for the window
   std::size_t rewinds() const { return rewinds_; }                      // went back for a late measurement
+  std::size_t refilters() const { return refilters_; }  // went back for a view's understated noise
   // What the gate did (measurement_gate.hpp, view_noise_scales.hpp), and the tracks it restarted
   // (counted in restarted_tracks() too).
   const ViewNoiseScales& view_noise_scales() const { return state_.view_noise; }
@@ -184,6 +188,13 @@ class SceneFilter {
     ViewNoiseScales view_noise;
     std::size_t restarted_tracks = 0;
     std::size_t gate_restarts = 0;
+    std::vector<std::size_t> applied_releases;  // indices into scheduled_releases_
+  };
+  // A view's offset released from `time` on, found later (learn_view_noise).
+  struct ScheduledRelease {
+    std::string view;
+    double time;
+    Matrix3d covariance;
   };
   struct Checkpoint {
     double time;  // replays the events at or after this time
@@ -202,6 +213,11 @@ class SceneFilter {
   void report(Event& event, std::size_t first, std::size_t end, const Gaussian3& estimate,
               const std::optional<TrackPrediction>& prediction, const std::vector<bool>& gated);
   double noise_scale(std::string_view view) const;  // μ of the view; 1 without the gate
+  // A release of a view's offset that add() found (view_noise_scales.hpp): applied now, or scheduled
+  // from when the shift began and the filter set to go back there.
+  void schedule_release(const std::string& view, const ViewNoiseScales::Release& release, double time);
+  // Applies the scheduled releases due by `time` that the state has not applied.
+  void apply_scheduled_releases(double time);
   // Teaches the views' noise scales from one object's measurements at one time (`alone`: each
   // corrected for its view's offset, with its μ): each against the information-weighted mean of the
   // others that passed the gate — its disagreement with the other views, not with the track.
@@ -226,6 +242,14 @@ class SceneFilter {
   std::vector<Result> results_;
   std::size_t late_measurements_ = 0;
   std::size_t rewinds_ = 0;
+  // The gate's re-filtering (learn_view_noise): the noise scale each view is presumed to have from
+  // the start of the window, whatever the state restored; whether to go back once the event is done;
+  // how often it went back.
+  std::map<std::string, double, std::less<>> presumed_noise_scales_;
+  std::vector<ScheduledRelease> scheduled_releases_;
+  bool refilter_ = false;
+  double refilter_from_ = std::numeric_limits<double>::infinity();
+  std::size_t refilters_ = 0;
 };
 
 }  // namespace stgf

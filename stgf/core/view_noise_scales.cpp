@@ -22,7 +22,7 @@ double ViewNoiseScales::scale(std::string_view view) const {
 
 double ViewNoiseScales::median_distance_squared(const View& view, double scale, const Vector3d& centre,
                                                 std::size_t count) const {
-  std::array<double, kWindow> values;
+  std::array<double, kWindow> values{};
   for (std::size_t i = 0; i < count; ++i) {
     const Sample& sample = view.recent(i);
     values[i] = scale == 1.0 && centre.isZero()
@@ -34,10 +34,11 @@ double ViewNoiseScales::median_distance_squared(const View& view, double scale, 
   return *middle;
 }
 
-ViewNoiseScales::Typical ViewNoiseScales::typical_innovation(const View& view, std::size_t count) const {
+ViewNoiseScales::Typical ViewNoiseScales::typical_innovation(const View& view, std::size_t count,
+                                                               double scale) const {
   Typical typical{Vector3d::Zero(), Matrix3d::Zero()};
   for (int axis = 0; axis < 3; ++axis) {
-    std::array<double, kWindow> values;
+    std::array<double, kWindow> values{};
     for (std::size_t i = 0; i < count; ++i) values[i] = view.recent(i).innovation(axis);
     auto middle = values.begin() + static_cast<std::ptrdiff_t>(count / 2);
     std::nth_element(values.begin(), middle, values.begin() + static_cast<std::ptrdiff_t>(count));
@@ -46,42 +47,13 @@ ViewNoiseScales::Typical ViewNoiseScales::typical_innovation(const View& view, s
   const double n = static_cast<double>(count);
   for (std::size_t i = 0; i < count; ++i) {
     const Sample& sample = view.recent(i);
-    typical.variance += (std::numbers::pi / 2.0 * sample.noise / n + sample.prediction_covariance) / n;
+    const Matrix3d independent = scale * sample.noise + sample.prediction_covariance - sample.recurring;
+    typical.variance += (std::numbers::pi / 2.0 * independent / n + sample.recurring) / n;
   }
   return typical;
 }
 
-std::optional<Matrix3d> ViewNoiseScales::add(std::string_view name, double time, const Vector3d& innovation,
-                                             const Matrix3d& prediction_covariance, const Matrix3d& noise,
-                                             bool separate_bias) {
-  View& view = view_of(name);
-  view.window[view.samples % kWindow] =
-      Sample{innovation, prediction_covariance, noise, distance_squared(innovation, prediction_covariance + noise)};
-  ++view.samples;
-  if (view.samples < kRecent) return std::nullopt;
-  const std::size_t available = std::min(view.samples, kWindow);
-  static const double kWindowThreshold = chi_square_3_quantile(0.999);
-  static const double kRecentThreshold = chi_square_3_quantile(0.9999);
-  const double median = median_distance_squared(view, 1.0, Vector3d::Zero(), available);
-  const Typical recent = typical_innovation(view, kRecent);
-  const Typical whole = typical_innovation(view, available);
-  const bool recent_bias = distance_squared(recent.median, recent.variance) > kRecentThreshold;
-  if (!recent_bias && !(median > kTrigger * kChiSquare3Median) &&
-      !(distance_squared(whole.median, whole.variance) > kWindowThreshold)) {
-    view.scale = 1.0;
-    return std::nullopt;
-  }
-  // The samples μ is solved on, and the bias to centre them on and release: the recent ones and their
-  // median when they show the bias (a jump), else the window and its mean.
-  const std::size_t count = recent_bias ? kRecent : available;
-  Vector3d centre = Vector3d::Zero();
-  if (separate_bias && recent_bias) {
-    centre = recent.median;
-  } else if (separate_bias) {
-    for (std::size_t i = 0; i < available; ++i) {
-      centre += view.recent(i).innovation / static_cast<double>(available);
-    }
-  }
+double ViewNoiseScales::solve_scale(const View& view, const Vector3d& centre, std::size_t count) const {
   // The smallest grid point 2^(j/2) whose median falls to m₃: bisection over j (m decreases in μ).
   int low = -1;   // below the grid: μ = 1
   int high = 40;  // the largest scale on the grid, taken when even it leaves the median above m₃
@@ -91,16 +63,80 @@ std::optional<Matrix3d> ViewNoiseScales::add(std::string_view name, double time,
                                                                                                               : high) =
         middle;
   }
-  view.scale = std::exp2(0.5 * std::max(high, 0));
+  return std::exp2(0.5 * std::max(high, 0));
+}
+
+bool ViewNoiseScales::shows_bias(const View& view, std::size_t count, double threshold) const {
+  const Typical typical = typical_innovation(view, count, 1.0);
+  if (!(distance_squared(typical.median, typical.variance) > threshold)) return false;
+  // A median away from zero by more than the stated noise allows may only say that the noise is
+  // larger than stated: judge it again with the noise scale that the samples' spread about their
+  // median asks for.
+  const double spread_scale = solve_scale(view, typical.median, count);
+  return spread_scale == 1.0 ||
+         distance_squared(typical.median, typical_innovation(view, count, spread_scale).variance) > threshold;
+}
+
+std::optional<ViewNoiseScales::Release> ViewNoiseScales::add(std::string_view name, double time, const Vector3d& innovation,
+                                                             const Matrix3d& prediction_covariance,
+                                                             const Matrix3d& recurring, const Matrix3d& noise,
+                                                             bool separate_bias) {
+  View& view = view_of(name);
+  view.window[view.samples % kWindow] = Sample{time, innovation, prediction_covariance, recurring, noise,
+                                               distance_squared(innovation, prediction_covariance + noise)};
+  ++view.samples;
+  if (view.samples < kJump) return std::nullopt;
+  static const double kWindowThreshold = chi_square_3_quantile(0.999);
+  static const double kJumpThreshold = chi_square_3_quantile(0.9999);
+  const std::size_t available = std::min(view.samples, kWindow);
+  const bool jump = shows_bias(view, kJump, kJumpThreshold);
+  const bool judged = view.samples >= kRecent;  // enough samples for the window's tests
+  const double median = judged ? median_distance_squared(view, 1.0, Vector3d::Zero(), available) : 0.0;
+  const bool window_bias = judged && !jump && shows_bias(view, available, kWindowThreshold);
+  const bool too_spread = median > kTrigger * kChiSquare3Median;
+  if (!jump && !window_bias && !too_spread) {
+    // None of the tests holds: a view found disagreeing before keeps its μ estimated from its
+    // disagreements (back to 1 once it behaves); the others stay at 1.
+    if (judged) view.scale = view.scale > 1.0 ? solve_scale(view, Vector3d::Zero(), available) : 1.0;
+    return std::nullopt;
+  }
   if (std::isnan(view.report.first_flagged_time)) {
     view.report.first_flagged_time = time;
     view.report.flagging_median = median;
   }
+  const bool release = separate_bias && (jump || window_bias);
+  if (!release) {
+    // No offset to move: the disagreements are all noise.
+    view.scale = solve_scale(view, Vector3d::Zero(), available);
+  } else if (window_bias) {
+    // A bias seen over the window: released now, and μ from the window centred on its mean.
+    Vector3d centre = Vector3d::Zero();
+    for (std::size_t i = 0; i < available; ++i) centre += view.recent(i).innovation / static_cast<double>(available);
+    view.scale = solve_scale(view, centre, available);
+    view.report.largest_scale = std::max(view.report.largest_scale, view.scale);
+    restart_after_release(name, time);
+    return Release{Matrix3d(centre * centre.transpose()), time};
+  }
   view.report.largest_scale = std::max(view.report.largest_scale, view.scale);
-  if (!separate_bias) return std::nullopt;
+  if (!release) return std::nullopt;
+  // A jump, from the earliest of the last kJump disagreements that show it; μ stays (what follows
+  // judges the noise).
+  const Vector3d centre = typical_innovation(view, kJump, 1.0).median;
+  const double since = view.recent(kJump - 1).time;
+  restart_after_release(name, time);
+  return Release{Matrix3d(centre * centre.transpose()), since};
+}
+
+void ViewNoiseScales::restart_after_release(std::string_view name, double time) {
+  View& view = view_of(name);
   view.samples = 0;
   ++view.report.offset_releases;
-  return Matrix3d(centre * centre.transpose());
+  if (std::isnan(view.report.first_flagged_time)) view.report.first_flagged_time = time;
+}
+
+void ViewNoiseScales::presume(std::string_view name, double scale) {
+  View& view = view_of(name);
+  view.scale = std::max(view.scale, scale);
 }
 
 void ViewNoiseScales::count(std::string_view name, bool passed) {
@@ -127,6 +163,7 @@ void GatingSummary::add(const GatingSummary& later) {
   checked += later.checked;
   gated += later.gated;
   restarts += later.restarts;
+  refilters += later.refilters;
   views.insert(views.end(), later.views.begin(), later.views.end());
 }
 

@@ -55,6 +55,7 @@ class ViewNoiseScales {
  public:
   static constexpr std::size_t kWindow = 15;
   static constexpr std::size_t kRecent = 5;
+  static constexpr std::size_t kJump = 3;
   static constexpr double kTrigger = 2.5;
   static constexpr double kChiSquare3Median = 2.365973884375338;
 
@@ -71,8 +72,21 @@ class ViewNoiseScales {
   // call returns ν̄ ν̄ᵀ, by which the caller widens the view's translation offset covariance (the
   // view's calibration may have changed: a jump becomes a new offset that the other views teach,
   // instead of a noise that only down-weights it). Otherwise it returns nothing.
-  std::optional<Matrix3d> add(std::string_view view, double time, const Vector3d& innovation,
-                              const Matrix3d& prediction_covariance, const Matrix3d& noise, bool separate_bias = false);
+  // `recurring` is the part of `prediction_covariance` that the view's successive disagreements share
+  // (its offset's error); the rest of it averages out like R.
+  struct Release {
+    Matrix3d covariance;  // ν̄ ν̄ᵀ
+    double since;         // when the shift began: the time of the earliest disagreement that shows it
+  };
+  std::optional<Release> add(std::string_view view, double time, const Vector3d& innovation,
+                              const Matrix3d& prediction_covariance, const Matrix3d& recurring, const Matrix3d& noise,
+                              bool separate_bias = false);
+  // The view's offset was widened at `time` (a release that add() returned, applied again by a filter
+  // that went back to before it): its window starts afresh, and the release is reported.
+  void restart_after_release(std::string_view view, double time);
+  // Takes μ of `view` as at least `scale` until its disagreements judge it again (a filter that goes
+  // back in time with what it has learnt since).
+  void presume(std::string_view view, double scale);
   // Counts a measurement of `view` checked by the gate, and whether it passed.
   void count(std::string_view view, bool passed);
 
@@ -90,8 +104,10 @@ class ViewNoiseScales {
 
  private:
   struct Sample {
+    double time;
     Vector3d innovation;
     Matrix3d prediction_covariance;
+    Matrix3d recurring;  // the part of it the view's disagreements share
     Matrix3d noise;
     double distance_squared;  // d²(1)
   };
@@ -111,7 +127,14 @@ class ViewNoiseScales {
     Vector3d median;
     Matrix3d variance;
   };
-  Typical typical_innovation(const View& view, std::size_t count) const;
+  // With the view's noise taken as `scale` R in V.
+  Typical typical_innovation(const View& view, std::size_t count, double scale) const;
+  // The smallest grid point μ whose median d²(μ) over the last `count` samples, less `centre`, is at
+  // most m₃.
+  double solve_scale(const View& view, const Vector3d& centre, std::size_t count) const;
+  // Whether the last `count` samples' median lies away from zero beyond `threshold`, also with the
+  // noise scale their spread about it asks for.
+  bool shows_bias(const View& view, std::size_t count, double threshold) const;
 
   std::map<std::string, View, std::less<>> views_;
 };
@@ -127,6 +150,9 @@ struct GatingSummary {
   std::size_t checked = 0;   // measurements checked by the gate (against a prediction or each other)
   std::size_t gated = 0;     // of which failed it
   std::size_t restarts = 0;  // tracks started again because every measurement failed the gate
+  // times a scene's filter went back over its lag window: a view's noise found understated, or its
+  // offset found shifted some events before (scene_filter.hpp)
+  std::size_t refilters = 0;
   std::vector<View> views;
 
   // Adds a scene's views (those with a gated measurement or found disagreeing).

@@ -116,6 +116,7 @@ void run_block(const MotionPredictor& predictor, const FilterOptions& options, s
     run.rewinds += scene.filter->rewinds();
     run.gating.add(scene.name, scene.filter->view_noise_scales());
     run.gating.restarts += scene.filter->gate_restarts();
+    run.gating.refilters += scene.filter->refilters();
     if (options.adapt_registration_prior && !options.registration.is_zero() && options.tracks == TrackMode::kPerObject) {
       if (scene.filter->registration_prior_scale_learned()) {
         run.registration_prior_scales.push_back(scene.filter->registration_prior_scale());
@@ -137,7 +138,9 @@ FilterRun run_spatiotemporal_graph_filter(const MotionPredictor& predictor, cons
   }
   const bool by_arrival = with_arrival != 0;
   FilterOptions scene_options = options;
-  if (!by_arrival) scene_options.lag_window = 0.0;  // steps come in time order: nothing to go back for
+  // Steps in time order leave nothing to go back for, but the gate's re-filtering of a view whose
+  // noise was understated (scene_filter.hpp).
+  if (!by_arrival && !options.gate.enabled) scene_options.lag_window = 0.0;
   const std::vector<Scene> scenes = group_into_scenes(measurements);
   FilterRun run;
   // One vector of estimates, each row's own measurement until its estimate comes (a Gaussian3 has no

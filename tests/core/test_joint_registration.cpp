@@ -77,6 +77,15 @@ class DenseJointRegistration {
     covariance_ -= gain * h * covariance_;
     covariance_ = 0.5 * (covariance_ + covariance_.transpose()).eval();
   }
+  // Cov(Σ_k W_k H_k β_u(k)): every offset block's covariance and cross-covariance, written out.
+  Matrix3d offsets_covariance(const std::vector<const Measurement*>& measurements, const std::vector<Matrix3d>& weights) {
+    for (const Measurement* m : measurements) add_view(m->view);
+    Eigen::MatrixXd g = Eigen::MatrixXd::Zero(3, mean_.size());
+    for (std::size_t k = 0; k < measurements.size(); ++k) {
+      g.middleCols<6>(views_.at(measurements[k]->view)) += weights[k] * offset_jacobian(measurements[k]->position.covariance());
+    }
+    return g * covariance_ * g.transpose();
+  }
   Vector3d position_mean(const std::string& object) const { return mean_.segment<3>(objects_.at(object)); }
   Matrix3d position_covariance(const std::string& object) const {
     const Eigen::Index i = objects_.at(object);
@@ -202,6 +211,31 @@ void run_scenario(const RegistrationPrior& prior, std::uint64_t seed, int object
           dense.update(batch[k], scales[k]);
         }
         factored.update(pointers, scales);
+      }
+      if (batch.size() >= 2) {
+        // One measurement against a weighted mean of the others (and, from step 20, one of a view
+        // never seen, whose offset is its prior, independent of the rest).
+        std::vector<const Measurement*> combined;
+        std::vector<Matrix3d> weights;
+        for (std::size_t k = 0; k < batch.size(); ++k) {
+          combined.push_back(&batch[k]);
+          weights.push_back(k == 0 ? Matrix3d::Identity() : Matrix3d(-random_covariance(random, 1.0)));
+        }
+        const Measurement unseen = measurement(object, "never-seen");
+        if (step >= 20) {
+          combined.push_back(&unseen);
+          weights.push_back(-Matrix3d::Identity());
+        }
+        const Matrix3d actual = factored.offsets_covariance(combined, weights);
+        EXPECT_LE((actual - dense.offsets_covariance(combined, weights)).norm(), 1e-9) << "offsets_covariance at step " << step;
+        // The offset common to the views cancels in a difference: less than the two offsets' own spread.
+        const Matrix3d apart = factored.offsets_covariance(std::vector<const Measurement*>{combined[0], combined[1]},
+                                                           std::vector<Matrix3d>{Matrix3d::Identity(), -Matrix3d::Identity()});
+        const Matrix3d alone = factored.offsets_covariance(std::vector<const Measurement*>{combined[0]},
+                                                           std::vector<Matrix3d>{Matrix3d::Identity()}) +
+                               factored.offsets_covariance(std::vector<const Measurement*>{combined[1]},
+                                                           std::vector<Matrix3d>{Matrix3d::Identity()});
+        EXPECT_LT(apart.trace(), alone.trace()) << "at step " << step;
       }
     }
     expect_same_state(factored, dense, "after step " + std::to_string(step));

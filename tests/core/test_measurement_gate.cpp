@@ -75,7 +75,7 @@ void feed(ViewNoiseScales& scales, const std::string& view, double factor, int c
     const double sd = std::sqrt(0.04 * factor + 0.01);
     Vector3d innovation(sd * normal(random), sd * normal(random), sd * normal(random));
     if (uniform(random) < outlier_share) innovation.x() += 10.0;
-    scales.add(view, 0.1 * k, innovation, others, r);
+    scales.add(view, 0.1 * k, innovation, others, Matrix3d::Zero(), r);  // the others' noise does not recur
   }
 }
 

@@ -244,5 +244,84 @@ TEST(SpatiotemporalGraphFilter, GatesAGrossErrorOfOneView) {
   EXPECT_TRUE(ungated.view_noise_scales().reports().empty());
 }
 
+// Four views with registration offsets watch three walkers; view "d" is faulty (`fault` changes
+// its measurement at step k). Returns the mean error of the fused estimates from step `from` on.
+struct FaultyViewRun {
+  double error = 0.0;
+  std::size_t refilters = 0;
+  ViewNoiseScales::Report d;
+};
+template <typename Fault>
+FaultyViewRun run_with_faulty_view(double lag_window, int from, Fault fault, const Matrix3d& stated_r_of_d) {
+  const ConstantVelocityPredictor predictor(0.01, 1.0);
+  FilterOptions options;
+  options.gate.enabled = true;
+  options.lag_window = lag_window;
+  options.registration.translation_sigma = Vector3d(0.1, 0.1, 0.0);
+  options.registration.noise_ratio = 0.0;
+  SpatiotemporalGraphFilter filter(predictor, options);
+  std::mt19937_64 random(11);
+  std::normal_distribution<double> normal;
+  const Matrix3d r = 0.01 * Matrix3d::Identity();
+  std::map<std::string, Vector3d> offsets;
+  for (const char* view : {"a", "b", "c", "d"}) offsets[view] = Vector3d(0.1 * normal(random), 0.1 * normal(random), 0.0);
+  FaultyViewRun run;
+  int scored = 0;
+  for (int k = 0; k < 40; ++k) {
+    const double t = 0.1 * k;
+    std::vector<Measurement> rows;
+    std::vector<Vector3d> truths;
+    for (int object = 0; object < 3; ++object) {
+      const Vector3d truth(object + 1.0 * t, 0.5 * object * t, 0.0);
+      for (const char* view : {"a", "b", "c", "d"}) {
+        Vector3d z = truth + offsets[view] + 0.1 * Vector3d(normal(random), normal(random), normal(random));
+        const bool faulty = std::string(view) == "d";
+        if (faulty) z = fault(k, z);
+        rows.push_back(Measurement{"s", t, view, std::string(1, static_cast<char>('p' + object)),
+                                   Gaussian3::from_covariance(z, faulty ? stated_r_of_d : r), std::nullopt});
+        truths.push_back(truth);
+      }
+    }
+    const std::vector<Gaussian3> estimates = step(filter, t, rows);
+    if (k < from) continue;
+    for (std::size_t i = 0; i < rows.size(); ++i) run.error += (estimates[i].mean() - truths[i]).norm();
+    scored += static_cast<int>(rows.size());
+  }
+  run.error /= scored;
+  run.refilters = filter.refilters();
+  run.d = filter.view_noise_scales().reports().at("d");
+  return run;
+}
+
+// View "d" states a hundredth of its noise. Once its noise scale is learnt, the filter goes back over
+// its lag window and fuses everything since with it: from then on it is about as good as a filter
+// told the truth, and better than one that cannot go back (lag window 0).
+TEST(SpatiotemporalGraphFilter, GoesBackWhenAViewsNoiseWasUnderstated) {
+  const auto honest = [](int, const Vector3d& z) { return z; };
+  const Matrix3d r = 0.01 * Matrix3d::Identity();
+  const FaultyViewRun told = run_with_faulty_view(1.0, 2, honest, r);
+  const FaultyViewRun back = run_with_faulty_view(1.0, 2, honest, 0.01 * r);
+  const FaultyViewRun stays = run_with_faulty_view(0.0, 2, honest, 0.01 * r);
+  EXPECT_EQ(told.refilters, 0u);
+  EXPECT_GE(back.refilters, 1u);
+  EXPECT_EQ(stays.refilters, 0u);
+  EXPECT_GT(back.d.largest_scale, 30.0);
+  EXPECT_LT(back.error, 1.15 * told.error) << back.error << " against " << told.error;
+  EXPECT_LT(back.error, stays.error) << back.error << " against " << stays.error;
+}
+
+// View "d" moves 1 m at step 20. The gate finds the jump a few measurements later, releases the
+// view's offset from the first of them, and goes back to fuse them again with it.
+TEST(SpatiotemporalGraphFilter, ReleasesAJumpFromWhenItBegan) {
+  const auto jump = [](int k, const Vector3d& z) { return k >= 20 ? Vector3d(z + Vector3d(0.6, 0.8, 0.0)) : z; };
+  const Matrix3d r = 0.01 * Matrix3d::Identity();
+  const FaultyViewRun back = run_with_faulty_view(1.0, 20, jump, r);
+  const FaultyViewRun stays = run_with_faulty_view(0.0, 20, jump, r);
+  EXPECT_GE(back.d.offset_releases, 1u);
+  EXPECT_GE(stays.d.offset_releases, 1u);
+  EXPECT_GE(back.refilters, 1u);
+  EXPECT_LT(back.error, stays.error) << back.error << " against " << stays.error;
+}
+
 }  // namespace
 }  // namespace stgf
