@@ -50,6 +50,14 @@
 // that the measurements agree is wrong starts again from them. Each measurement's disagreement with
 // the other views' measurements of the object at that time teaches its view's noise scale μ (its R is
 // taken as μR from then on) and, jointly, may re-open the view's offset (view_noise_scales.hpp).
+// What the view already taught the tracks and the offsets would otherwise stay: so, with a lag window,
+// the filter goes back (refilters()) — to the start of the window when a view's μ reaches
+// kRefilterNoiseScale and twice the μ it went back with before (the view is presumed to have it from
+// there on, until its disagreements judge again), and to the first of the disagreements that showed a
+// jump, whose release of the view's offset is applied from then on. The event being processed when
+// it is found comes again too; rows already reported keep their estimates. Each release of a view
+// begins after the one before and each μ is twice the last, so going back ends. With the gate on,
+// stgf run keeps the lag window's checkpoints even for rows in time order.
 //
 // ── Late and repeated measurements ──────────────────────────────────────────────────────────────
 // Let t* be the latest event time processed. A new measurement at t > t* is queued. One at t ≤ t* but

@@ -9,30 +9,38 @@
 //
 // Disagreements. Each measurement of u at a time when other views measure the same object and pass
 // the gate gives ν = z_u − (the others' information-weighted mean), each corrected for its view's
-// offset: ν ~ N(0, A + μ_u R), A the rest of its covariance (its offset's uncertainty and the
-// others' mean), taken as shared by u's successive disagreements: the offsets recur, and only u's
-// own noise R is taken to average out. The view's last kWindow
-// disagreements are kept (all of them, from kRecent on, before it has kWindow). With
+// offset: ν ~ N(0, A + μ_u R), A the rest of its covariance. Part of A recurs from one disagreement of
+// u to the next — the offsets' errors (with offsets estimated jointly, exactly the covariance of the
+// combination's offset errors: JointRegistration::offsets_covariance, in which the offset common to
+// the views cancels) — and the rest (the others' noise) averages out like R; the caller gives both.
+// The view's last kWindow disagreements are kept. With
 //     d²_k(μ) = ν_kᵀ (A_k + μ R_k)⁻¹ ν_k,   m(μ) = median_k d²_k(μ),   m₃ = 2.366 the median of χ²(3),
-// the view is found disagreeing when any of these holds:
-//   - m(1) > kTrigger · m₃ = 5.9: its typical measurement lies where an honest one lands 12 % of the
-//     time (for kWindow = 15 honest ones, probability about 10⁻⁴);
-//   - ν̃ᵀ V⁻¹ ν̃ > the χ²(3) quantile 0.999, ν̃ the coordinate-wise median of the kept disagreements
-//     (gross outliers do not move it) and V = mean_k (π/2 R_k/n + A_k) its variance:
-//     a bias that is small against one measurement's noise but persists;
-//   - the same for its last kRecent = 5 disagreements at the quantile 0.9999: a jump shows within
-//     five measurements rather than half a window.
+// and, for a bias test over the last n, ν̃ their coordinate-wise median (gross outliers do not move
+// it) and V(μ) = mean_k (π/2 (μR_k + A_k − A_k,recurring)/n + A_k,recurring) its variance, the view is
+// found disagreeing when any of these holds:
+//   - a jump: over its last kJump = 3 disagreements, ν̃ᵀ V(μ)⁻¹ ν̃ > the χ²(3) quantile 0.9999;
+//   - from kRecent = 5 disagreements on, m(1) > kTrigger · m₃ = 5.9: its typical measurement lies
+//     where an honest one lands 12 % of the time (for kWindow = 15 honest ones, probability about
+//     10⁻⁴);
+//   - from kRecent on, a bias over the window: the same test as a jump's over all kept disagreements,
+//     at the quantile 0.999: a bias that is small against one measurement's noise but persists.
+// The bias tests are judged twice: with μ = 1, and with the μ that the disagreements' spread about ν̃
+// asks for, so that a view whose noise is understated (a wide spread) is not taken for one whose
+// offset moved.
 // Then
-//   - with `separate_bias` (the filter estimates offsets, joint_registration.hpp): the bias ν̄ is the
-//     median of the last five when they showed it, else the mean of those kept; the caller widens the
-//     view's translation offset covariance by ν̄ ν̄ᵀ (its calibration may have changed: a jump becomes
-//     a new offset that the other views teach, rather than noise that only down-weights the view),
-//     μ_u is solved on the centred disagreements ν_k − ν̄ of the same samples, and the kept ones are
-//     dropped, so the next judgement sees only what came after;
-//   - without: μ_u is solved on the disagreements themselves, and stays 1 again once none of the tests
-//     holds.
+//   - with `separate_bias` (the filter estimates offsets, joint_registration.hpp), a jump or bias
+//     returns a Release: ν̄ ν̄ᵀ (ν̄ = ν̃ of the jump's three, or the window's mean), by which the caller
+//     widens the view's translation offset covariance (its calibration has changed: a jump becomes a
+//     new offset that the other views teach, rather than noise that only down-weights the view), and
+//     when the shift began (the first of the jump's three; now for a bias over the window); the kept
+//     disagreements are dropped, so the next judgement sees only what came after. A bias over the
+//     window also re-solves μ on its disagreements centred on ν̄; a jump leaves μ to what follows;
+//   - otherwise (a spread too wide, or no offsets) μ_u is solved on the disagreements themselves.
+// Once found disagreeing, a view keeps its μ re-solved from every new disagreement, back to 1 when it
+// behaves; a view never found disagreeing keeps μ = 1.
 // μ_u is the smallest grid point 2^(j/2), j = 0 … 40, whose median m(μ_u) of the (centred) samples is
 // at most m₃ (m decreases in μ): what makes the view's typical disagreement an honest one.
+// SceneFilter goes back over its lag window with a large μ or a jump (scene_filter.hpp).
 //
 // What the filter reports for each view: its largest μ, when it was first found disagreeing (with
 // m(1) then), how often its offset was widened, and how many of its measurements the gate checked and
@@ -63,17 +71,8 @@ class ViewNoiseScales {
   double scale(std::string_view view) const;
 
   // Adds a disagreement of a measurement of `view` at `time` with the other views: ν, the others'
-  // share A of its covariance, and the stated R. Updates μ of the view.
-  //
-  // With `separate_bias` (the filter estimates the view's offset, joint_registration.hpp), a view
-  // found faulty is taken to have both a changed offset and a noise scale: with ν̄ the mean of the
-  // window's innovations (the median of the last five when they showed it), μ is solved on the
-  // centred ones ν_k − ν̄ (of those five), the window starts afresh, and the
-  // call returns ν̄ ν̄ᵀ, by which the caller widens the view's translation offset covariance (the
-  // view's calibration may have changed: a jump becomes a new offset that the other views teach,
-  // instead of a noise that only down-weights it). Otherwise it returns nothing.
-  // `recurring` is the part of `prediction_covariance` that the view's successive disagreements share
-  // (its offset's error); the rest of it averages out like R.
+  // share A of its covariance and the part of A that recurs, and the stated R. Updates μ of the view.
+  // With `separate_bias`, returns the release of the view's offset when it has shifted (above).
   struct Release {
     Matrix3d covariance;  // ν̄ ν̄ᵀ
     double since;         // when the shift began: the time of the earliest disagreement that shows it
