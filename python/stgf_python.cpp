@@ -204,6 +204,7 @@ class Filter {
 
   std::size_t late_measurements() const { return filter_->late_measurements(); }
   std::size_t rewinds() const { return filter_->rewinds(); }
+  std::size_t refilters() const { return filter_->refilters(); }
   std::size_t restarted_tracks() const { return filter_->restarted_tracks(); }
   // Per view: what the χ² gate checked and left out, and its noise scale (design §1.12).
   py::dict gating() const {
@@ -254,6 +255,7 @@ py::dict run(const std::string& method, const py::object& scene, const Array& ti
   py::dict counts;
   counts["restarted_tracks"] = report.restarted_tracks;
   counts["rewinds"] = report.rewinds;
+  counts["refilters"] = report.gating.refilters;
   counts["late_measurements"] = report.late_measurements;
   counts["registration_missing"] = report.registration_missing;
   out["report"] = counts;
@@ -446,6 +448,7 @@ PYBIND11_MODULE(_stgf, m) {
       .def_property_readonly("registration_prior_scale", &Filter::registration_prior_scale)
       .def_property_readonly("late_measurements", &Filter::late_measurements)
       .def_property_readonly("rewinds", &Filter::rewinds)
+      .def_property_readonly("refilters", &Filter::refilters)
       .def_property_readonly("restarted_tracks", &Filter::restarted_tracks)
       .def_property_readonly("gating", &Filter::gating);
 

@@ -84,6 +84,7 @@ class TestFilter(unittest.TestCase):
         gating = f.gating
         self.assertEqual(gating["b"]["gated"] + gating["a"]["gated"], 1)
         self.assertGreaterEqual(gating["b"]["checked"], 1)
+        self.assertEqual(f.refilters, 0)  # one gross error is no faulty view: nothing to go back for
 
     def test_registration_prior_scales_to_the_views_offsets(self):
         # Six views whose offsets are five times the prior's σ (0.05 m): the prior's scale κ, learned
