@@ -387,7 +387,6 @@ void SceneFilter::schedule_release(const std::string& view, const ViewNoiseScale
   }
   const double since = std::max(release.since, checkpoints_.empty() ? time : checkpoints_.front().time);
   if (options_.lag_window > 0.0 && since < time - kSameStepTolerance && since > latest + kSameStepTolerance) {
-    state_.applied_releases.push_back(scheduled_releases_.size());  // not to be applied again before going back
     scheduled_releases_.push_back(ScheduledRelease{view, since, release.covariance});
     refilter_from_ = std::min(refilter_from_, since);
     refilter_ = true;

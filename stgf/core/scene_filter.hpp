@@ -160,7 +160,7 @@ class SceneFilter {
   std::size_t restarted_tracks() const { return state_.restarted_tracks; }
   std::size_t late_measurements() const { return late_measurements_; }  // too late for the window
   std::size_t rewinds() const { return rewinds_; }                      // went back for a late measurement
-  std::size_t refilters() const { return refilters_; }  // went back for a view's understated noise
+  std::size_t refilters() const { return refilters_; }  // went back for a view's understated noise or jump
   // What the gate did (measurement_gate.hpp, view_noise_scales.hpp), and the tracks it restarted
   // (counted in restarted_tracks() too).
   const ViewNoiseScales& view_noise_scales() const { return state_.view_noise; }

@@ -104,25 +104,25 @@ std::optional<ViewNoiseScales::Release> ViewNoiseScales::add(std::string_view na
     view.report.first_flagged_time = time;
     view.report.flagging_median = median;
   }
-  const bool release = separate_bias && (jump || window_bias);
-  if (!release) {
+  if (!(separate_bias && (jump || window_bias))) {
     // No offset to move: the disagreements are all noise.
     view.scale = solve_scale(view, Vector3d::Zero(), available);
-  } else if (window_bias) {
-    // A bias seen over the window: released now, and μ from the window centred on its mean.
-    Vector3d centre = Vector3d::Zero();
+    view.report.largest_scale = std::max(view.report.largest_scale, view.scale);
+    return std::nullopt;
+  }
+  // The offset moved: by the window's mean since now (a bias over the window; μ from the window
+  // centred on it), or by the median of the last kJump since the first of them (a jump; μ stays,
+  // what follows judges the noise).
+  Vector3d centre = Vector3d::Zero();
+  double since = time;
+  if (window_bias) {
     for (std::size_t i = 0; i < available; ++i) centre += view.recent(i).innovation / static_cast<double>(available);
     view.scale = solve_scale(view, centre, available);
-    view.report.largest_scale = std::max(view.report.largest_scale, view.scale);
-    restart_after_release(name, time);
-    return Release{Matrix3d(centre * centre.transpose()), time};
+  } else {
+    centre = typical_innovation(view, kJump, 1.0).median;
+    since = view.recent(kJump - 1).time;
   }
   view.report.largest_scale = std::max(view.report.largest_scale, view.scale);
-  if (!release) return std::nullopt;
-  // A jump, from the earliest of the last kJump disagreements that show it; μ stays (what follows
-  // judges the noise).
-  const Vector3d centre = typical_innovation(view, kJump, 1.0).median;
-  const double since = view.recent(kJump - 1).time;
   restart_after_release(name, time);
   return Release{Matrix3d(centre * centre.transpose()), since};
 }

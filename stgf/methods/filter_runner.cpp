@@ -139,7 +139,7 @@ FilterRun run_spatiotemporal_graph_filter(const MotionPredictor& predictor, cons
   const bool by_arrival = with_arrival != 0;
   FilterOptions scene_options = options;
   // Steps in time order leave nothing to go back for, but the gate's re-filtering of a view whose
-  // noise was understated (scene_filter.hpp).
+  // noise was understated or whose offset jumped (scene_filter.hpp).
   if (!by_arrival && !options.gate.enabled) scene_options.lag_window = 0.0;
   const std::vector<Scene> scenes = group_into_scenes(measurements);
   FilterRun run;
