@@ -22,13 +22,6 @@ using BlockColumns = Eigen::Matrix<double, 3, Eigen::Dynamic, Eigen::ColMajor, 3
 using OffsetInformationBlock = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::ColMajor, 6, 6>;
 using BlockVector = Eigen::Matrix<double, Eigen::Dynamic, 1, Eigen::ColMajor, 6, 1>;
 
-// The object's conditional term of the joint information, BᵀP⁻¹B and BᵀP⁻¹â, as Uᵀ U and Uᵀ w with
-// Uᵀ = (L_P⁻¹ B)ᵀ (c × 3) and w = L_P⁻¹ â (P = L_P L_Pᵀ).
-struct ConditionalTerm {
-  MatrixX3 u_transposed;
-  Vector3d w;
-};
-
 // A measurement's own term of the offsets' information, G_kᵀ W G_k and G_kᵀ W z_k, on its view's
 // blocks only (G_k = H_u × each block's basis): add_block(row start, column start, block) for the block
 // pairs of M's lower triangle, add_vector(row start, segment) for each block.
@@ -233,41 +226,51 @@ void JointRegistration::update(std::span<const Measurement* const> measurements,
   }
   const auto found = objects_.find(name);
   if (found == objects_.end()) throw std::logic_error("JointRegistration::update: unknown object");
-  std::vector<const ViewBlocks*> views;  // first: β has its final size before any term is formed
-  for (const Measurement* measurement : measurements) views.push_back(add_view(measurement->view));
+  // Per measurement: its view (first, so that β has its final size before any term is formed), H_k
+  // and R_k⁻¹; kept in members so that an update allocates nothing in the steady state.
+  std::vector<UpdateTerm>& terms = update_terms_;
+  terms.clear();
+  for (std::size_t k = 0; k < measurements.size(); ++k) {
+    const Matrix3d& r = measurements[k]->position.covariance();
+    const Cholesky3 noise_factor(noise_scales[k] * r);  // R_k
+    if (!noise_factor.ok()) throw std::runtime_error("registration: a measurement's covariance is not positive definite");
+    terms.push_back(UpdateTerm{add_view(measurements[k]->view), offset_jacobian(r), noise_factor.inverse()});
+  }
   ObjectState& object = found->second;
-  // Before: the conditional's information P⁻¹ = FᵀF with F = L_P⁻¹, and its term (F B)ᵀ, F â.
+  const Eigen::Index size = offsets_information_vector_.size();
+  // Before: the conditional's information P⁻¹ = FᵀF with F = L_P⁻¹, and its term (F B)ᵀ, F â — U₋ is
+  // written straight into the pending columns.
   const Cholesky3 prior_factor(object.covariance);
   if (!prior_factor.ok()) throw std::runtime_error("registration: a position's covariance is not positive definite");
   const Matrix3d prior_whitening = prior_factor.inverse_factor();  // F
-  const ConditionalTerm before{prior_whitening.lazyProduct(object.offsets).transpose(), prior_whitening * object.mean};
+  const std::size_t pending = pending_added_.size();
+  pending_added_.resize(pending + static_cast<std::size_t>(3 * size));
+  pending_subtracted_.resize(pending + static_cast<std::size_t>(3 * size));
+  Eigen::Map<MatrixX3> before(pending_added_.data() + pending, size, 3);
+  before.noalias() = (prior_whitening.lazyProduct(object.offsets)).transpose();
+  const Vector3d before_w = prior_whitening * object.mean;
   const Matrix3d prior_information = prior_whitening.transpose() * prior_whitening;  // P⁻¹
   Matrix3d information = prior_information;           // then P'⁻¹
   Vector3d information_mean = information * object.mean;  // P⁻¹ â, then P'⁻¹ â'
   Eigen::VectorXd& information_vector = offsets_information_vector_;
-  std::vector<Matrix3d> noise_inverses(measurements.size());
-  std::vector<Matrix36> jacobians(measurements.size());
   for (std::size_t k = 0; k < measurements.size(); ++k) {
     const Measurement& measurement = *measurements[k];
+    const UpdateTerm& term = terms[k];
     const Vector3d& z = measurement.position.mean();
-    jacobians[k] = offset_jacobian(measurement.position.covariance());
-    const Cholesky3 noise_factor(noise_scales[k] * measurement.position.covariance());  // R_k
-    if (!noise_factor.ok()) throw std::runtime_error("registration: a measurement's covariance is not positive definite");
-    noise_inverses[k] = noise_factor.inverse();  // R_k⁻¹
     // The view's own term: G_kᵀ R_k⁻¹ G_k and G_kᵀ R_k⁻¹ z_k with G_k = H_k × a block's basis: H_kᵀ R_k⁻¹ H_k
     // joins the view's pending sum (added to M's blocks of the view when M is next folded), and
     // the vector goes to m now.
-    if (views[k] != nullptr) {
-      const Matrix36 weighted = noise_inverses[k] * jacobians[k];  // R_k⁻¹ H_k
-      views[k]->pending_information.noalias() += jacobians[k].transpose() * weighted;
-      views[k]->has_pending_information = true;
+    if (term.view != nullptr) {
+      const Matrix36 weighted = term.noise_inverse * term.jacobian;  // R_k⁻¹ H_k
+      term.view->pending_information.noalias() += term.jacobian.transpose() * weighted;
+      term.view->has_pending_information = true;
       const Eigen::Matrix<double, 6, 1> vector = weighted.transpose() * z;
-      for (const OffsetBlock& block : views[k]->blocks) {
+      for (const OffsetBlock& block : term.view->blocks) {
         information_vector.segment(block.start, block.size()).noalias() += block.basis.transpose() * vector;
       }
     }
-    information += noise_inverses[k];
-    information_mean.noalias() += noise_inverses[k] * z;
+    information += term.noise_inverse;
+    information_mean.noalias() += term.noise_inverse * z;
   }
   // a_i given β, all measurements at once (z_k − (B_i + G_k) β = a_i + e_k):
   //   P' = (P⁻¹ + Σ R_k⁻¹)⁻¹,  â' = P' (P⁻¹ â + Σ R_k⁻¹ z_k),  B' = P' P⁻¹ B − Σ_k P' R_k⁻¹ G_k,
@@ -275,28 +278,27 @@ void JointRegistration::update(std::span<const Measurement* const> measurements,
   const Cholesky3 posterior_factor(information);  // P'⁻¹ = L Lᵀ
   if (!posterior_factor.ok()) throw std::runtime_error("registration: a position's information is not positive definite");
   const Matrix3d covariance = symmetrised(posterior_factor.inverse());  // P'
-  object.offsets = ((covariance * prior_information) * object.offsets).eval();
-  for (std::size_t k = 0; k < measurements.size(); ++k) {
-    if (views[k] == nullptr) continue;
-    const Matrix3d gain = covariance * noise_inverses[k];  // P' R_k⁻¹
-    for (const OffsetBlock& block : views[k]->blocks) {
-      const Matrix36 change = gain * (jacobians[k] * block.padded_basis);
+  const Matrix3d carried = covariance * prior_information;             // P' P⁻¹
+  for (Eigen::Index j = 0; j < object.offsets.cols(); ++j) object.offsets.col(j) = carried * object.offsets.col(j);
+  for (const UpdateTerm& term : terms) {
+    if (term.view == nullptr) continue;
+    const Matrix3d gain = covariance * term.noise_inverse;  // P' R_k⁻¹
+    for (const OffsetBlock& block : term.view->blocks) {
+      const Matrix36 change = gain * (term.jacobian * block.padded_basis);
       object.offsets.middleCols(block.start, block.size()) -= change.leftCols(block.size());
     }
   }
   object.mean = covariance * information_mean;
   object.covariance = covariance;
   object.spread_version = 0;
-  // After: P'⁻¹ = L Lᵀ, so F' = Lᵀ: the term (Lᵀ B')ᵀ = B'ᵀ L and Lᵀ â'.
-  const Matrix3d posterior_whitening = posterior_factor.matrix_l().transpose();
-  const ConditionalTerm after{posterior_whitening.lazyProduct(object.offsets).transpose(), posterior_whitening * object.mean};
+  // After: P'⁻¹ = L Lᵀ, so F' = Lᵀ: the term (Lᵀ B')ᵀ = B'ᵀ L and Lᵀ â', U₊ into the pending columns.
   // β: the conditional's term before, less the term after (M's part pending until M is next read).
-  pending_added_.insert(pending_added_.end(), before.u_transposed.data(),
-                        before.u_transposed.data() + before.u_transposed.size());
-  pending_subtracted_.insert(pending_subtracted_.end(), after.u_transposed.data(),
-                             after.u_transposed.data() + after.u_transposed.size());
-  information_vector.noalias() -= before.u_transposed * before.w;
-  information_vector.noalias() += after.u_transposed * after.w;
+  const Matrix3d posterior_whitening = posterior_factor.matrix_l().transpose();
+  Eigen::Map<MatrixX3> after(pending_subtracted_.data() + pending, size, 3);
+  after.noalias() = (posterior_whitening.lazyProduct(object.offsets)).transpose();
+  const Vector3d after_w = posterior_whitening * object.mean;
+  information_vector.noalias() -= before * before_w;
+  information_vector.noalias() += after * after_w;
   ++version_;
   if (pending_added_.size() >= kMaxPendingColumns * static_cast<std::size_t>(information_vector.size())) {
     fold_pending_terms();

@@ -214,6 +214,13 @@ class JointRegistration {
   // instead of a pass over M per object. At most kMaxPendingColumns are kept.
   mutable Eigen::MatrixXd offsets_information_;
   mutable std::vector<double> pending_added_, pending_subtracted_;
+  // update()'s work space: per measurement, its view, H_k and R_k⁻¹ (kept so as not to allocate).
+  struct UpdateTerm {
+    const ViewBlocks* view;
+    Eigen::Matrix<double, 3, 6> jacobian;
+    Matrix3d noise_inverse;
+  };
+  std::vector<UpdateTerm> update_terms_;
   Eigen::VectorXd offsets_information_vector_;  // m
   // Read through refresh(): the factor L of M and β̂, for the M they were made from.
   mutable Eigen::LLT<Eigen::MatrixXd, Eigen::Lower> offsets_factor_;

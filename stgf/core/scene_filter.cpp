@@ -11,6 +11,7 @@
 #include <unordered_map>
 
 #include "stgf/core/multi_view_update.hpp"
+#include "stgf/core/name_index.hpp"
 
 namespace stgf {
 namespace {
@@ -28,46 +29,34 @@ bool row_before(const Measurement& a, const Measurement& b) {
   return a.view < b.view;
 }
 
-// Each distinct name of `names` gets its rank in name order: a hash look-up per name (none when it
-// repeats the one before, as rows grouped by object or view do) and O(d log d) string comparisons for
-// d distinct names, instead of O(n log n) comparisons to sort n rows by name.
-class NameRanks {
- public:
-  std::uint32_t index(std::string_view name) {
-    if (!names_.empty() && name == names_[last_]) return last_;
-    const auto [found, added] = indices_.try_emplace(name, static_cast<std::uint32_t>(names_.size()));
-    if (added) names_.push_back(name);
-    last_ = found->second;
-    return last_;
-  }
-  // Ranks by index, once every name is in.
-  std::vector<std::uint32_t> ranks() const {
-    std::vector<std::uint32_t> by_name(names_.size());
-    std::iota(by_name.begin(), by_name.end(), 0u);
-    std::sort(by_name.begin(), by_name.end(), [this](std::uint32_t a, std::uint32_t b) { return names_[a] < names_[b]; });
-    std::vector<std::uint32_t> rank(names_.size());
-    for (std::size_t r = 0; r < by_name.size(); ++r) rank[by_name[r]] = static_cast<std::uint32_t>(r);
-    return rank;
-  }
-
- private:
-  std::unordered_map<std::string_view, std::uint32_t> indices_;
-  std::vector<std::string_view> names_;
-  std::uint32_t last_ = 0;
-};
-
 // Sorts the indices `order` of `measurements` by (object, view) name, stably (row_before's order).
-void sort_by_object_and_view(std::span<std::size_t> order, std::span<const Measurement* const> measurements) {
-  NameRanks objects, views;
-  std::vector<std::pair<std::uint64_t, std::size_t>> keyed;  // (object index, view index) then rank
-  keyed.reserve(order.size());
+// Returns the position in the sorted `order` of a row whose (object, view) repeats the row before
+// it, if any.
+std::optional<std::size_t> sort_by_object_and_view(std::span<std::size_t> order,
+                                                   std::span<const Measurement* const> measurements,
+                                                   NameIndex& objects, NameIndex& views) {
+  std::vector<std::uint32_t> object_ids, view_ids;
+  object_ids.reserve(order.size());
+  view_ids.reserve(order.size());
   for (const std::size_t k : order) {
-    keyed.emplace_back(std::uint64_t{objects.index(measurements[k]->object)} << 32 | views.index(measurements[k]->view), k);
+    object_ids.push_back(objects.id(measurements[k]->object));
+    view_ids.push_back(views.id(measurements[k]->view));
   }
-  const std::vector<std::uint32_t> object_rank = objects.ranks(), view_rank = views.ranks();
-  for (auto& [key, k] : keyed) key = std::uint64_t{object_rank[key >> 32]} << 32 | view_rank[key & 0xffffffffu];
-  std::stable_sort(keyed.begin(), keyed.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
-  for (std::size_t r = 0; r < keyed.size(); ++r) order[r] = keyed[r].second;
+  objects.rank(object_ids);
+  views.rank(view_ids);
+  std::vector<std::pair<std::uint64_t, std::size_t>> keyed;  // (object rank, view rank), row
+  keyed.reserve(order.size());
+  for (std::size_t r = 0; r < order.size(); ++r) {
+    keyed.emplace_back(std::uint64_t{objects.rank_of(object_ids[r])} << 32 | views.rank_of(view_ids[r]), order[r]);
+  }
+  const auto by_key = [](const auto& a, const auto& b) { return a.first < b.first; };
+  if (!std::is_sorted(keyed.begin(), keyed.end(), by_key)) std::stable_sort(keyed.begin(), keyed.end(), by_key);
+  std::optional<std::size_t> repeated;
+  for (std::size_t r = 0; r < keyed.size(); ++r) {
+    order[r] = keyed[r].second;
+    if (r > 0 && keyed[r].first == keyed[r - 1].first && !repeated) repeated = r;
+  }
+  return repeated;
 }
 
 }  // namespace
@@ -114,21 +103,31 @@ void SceneFilter::receive(std::span<const Measurement* const> measurements, std:
   for (std::size_t k = 0; k < measurements.size(); ++k) {
     if (!too_late(measurements[k]->time)) order.push_back(k);
   }
-  std::stable_sort(order.begin(), order.end(),
-                   [&](std::size_t a, std::size_t b) { return measurements[a]->time < measurements[b]->time; });
-  // Each event's rows in (object, view) order: the indices are sorted, and each row copied once.
+  const auto by_time = [&](std::size_t a, std::size_t b) { return measurements[a]->time < measurements[b]->time; };
+  if (!std::is_sorted(order.begin(), order.end(), by_time)) std::stable_sort(order.begin(), order.end(), by_time);
+  // Each event's rows in (object, view) order: the indices are sorted, and each row copied once. A
+  // (view, object) twice at one time within the call is found on the way.
+  const auto twice = [&](const Measurement& measurement, double time) {
+    return std::invalid_argument("view '" + measurement.view + "' measured object '" + measurement.object +
+                                 "' twice at t = " + seconds(time) + " s");
+  };
+  object_names_.trim();
+  view_names_.trim();
   std::vector<Event> events;
   for (std::size_t first = 0; first < order.size();) {
     const double time = measurements[order[first]]->time;
     std::size_t end = first;
     while (end < order.size() && measurements[order[end]]->time - time <= kSameStepTolerance) ++end;
-    sort_by_object_and_view(std::span(order).subspan(first, end - first), measurements);
+    const std::span<std::size_t> rows = std::span(order).subspan(first, end - first);
+    if (const auto repeated = sort_by_object_and_view(rows, measurements, object_names_, view_names_)) {
+      throw twice(*measurements[rows[*repeated]], time);
+    }
     Event& event = events.emplace_back(Event{time, {}, false});
     event.rows.reserve(end - first);
     for (std::size_t k = first; k < end; ++k) event.rows.push_back(Row{ids[order[k]], *measurements[order[k]], false});
     first = end;
   }
-  // A (view, object) twice at one time, within the call or with what the filter already holds.
+  // A (view, object) at one time both in the call and in what the filter already holds.
   const auto same_time_event = [&](const std::deque<Event>& list, double time) -> const Event* {
     for (const Event& event : list) {
       if (std::abs(event.time - time) <= kSameStepTolerance) return &event;
@@ -137,21 +136,17 @@ void SceneFilter::receive(std::span<const Measurement* const> measurements, std:
   };
   for (const Event& event : events) {
     std::vector<const Measurement*> at_time;
-    for (const Row& row : event.rows) at_time.push_back(&row.measurement);
-    bool held_rows = false;
     for (const std::deque<Event>* list : {&log_, &queue_}) {
       if (const Event* held = same_time_event(*list, event.time)) {
         for (const Row& row : held->rows) at_time.push_back(&row.measurement);
-        held_rows = true;
       }
     }
-    if (held_rows) {
-      std::sort(at_time.begin(), at_time.end(), [](const Measurement* a, const Measurement* b) { return row_before(*a, *b); });
-    }
+    if (at_time.empty()) continue;
+    for (const Row& row : event.rows) at_time.push_back(&row.measurement);
+    std::sort(at_time.begin(), at_time.end(), [](const Measurement* a, const Measurement* b) { return row_before(*a, *b); });
     for (std::size_t k = 1; k < at_time.size(); ++k) {
       if (at_time[k]->object == at_time[k - 1]->object && at_time[k]->view == at_time[k - 1]->view) {
-        throw std::invalid_argument("view '" + at_time[k]->view + "' measured object '" + at_time[k]->object +
-                                    "' twice at t = " + seconds(event.time) + " s");
+        throw twice(*at_time[k], event.time);
       }
     }
   }

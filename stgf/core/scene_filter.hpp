@@ -87,6 +87,7 @@
 
 #include "stgf/core/joint_registration.hpp"
 #include "stgf/core/measurement_gate.hpp"
+#include "stgf/core/name_index.hpp"
 #include "stgf/core/object_track.hpp"
 #include "stgf/core/process_noise_scale.hpp"
 #include "stgf/core/records.hpp"
@@ -250,6 +251,7 @@ class SceneFilter {
   std::vector<Result> results_;
   std::size_t late_measurements_ = 0;
   std::size_t rewinds_ = 0;
+  NameIndex object_names_, view_names_;  // receive()'s ordering of rows by name
   // The gate's re-filtering (learn_view_noise): the noise scale each view is presumed to have from
   // the start of the window, whatever the state restored; whether to go back once the event is done;
   // how often it went back.
