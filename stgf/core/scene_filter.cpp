@@ -161,7 +161,7 @@ void SceneFilter::leave_out(const Measurement& measurement, std::size_t id) {
   const Gaussian3 estimate = joint()                      ? state_.joint.corrected(measurement)
                              : state_.registration.active() ? state_.registration.combine(std::span(&alone, 1))
                                                             : measurement.position;
-  results_.push_back(Result{id, estimate, std::nullopt, false});
+  results_.push_back(Result{id, estimate, nullptr, false});
   ++late_measurements_;
 }
 
@@ -229,23 +229,23 @@ bool SceneFilter::advance() {
   return true;
 }
 
-bool SceneFilter::same_track_as_previous_row(const Event& event, std::size_t k) const {
-  return options_.tracks == TrackMode::kPerObject && k > 0 &&
-         event.rows[k - 1].measurement.object == event.rows[k].measurement.object;
-}
-
 void SceneFilter::start(Event& event) {
   if (options_.lag_window > 0.0 && event.time - checkpoints_.back().time >= kCheckpointSpacing) {
     checkpoints_.push_back({event.time, state_});
   }
+  // The event's tracks: kPerObject, one per object (rows are in object order); kPerView, one per row.
+  event.tracks.clear();
   for (std::size_t k = 0; k < event.rows.size(); ++k) {
     const Measurement& measurement = event.rows[k].measurement;
-    if (same_track_as_previous_row(event, k)) continue;
+    if (options_.tracks == TrackMode::kPerObject && k > 0 && event.rows[k - 1].measurement.object == measurement.object) {
+      continue;
+    }
     ObjectTrack& track = state_.tracks[key_of(measurement)];
     if (!track.empty() && event.time - track.state().time > predictor_.prediction_horizon()) {
       track.clear();  // unseen for too long: starts again, like an object never seen
       ++state_.restarted_tracks;
     }
+    event.tracks.push_back(TrackRows{k, &track});
   }
   close_frames(event.time);
   event.started = true;
@@ -253,15 +253,10 @@ void SceneFilter::start(Event& event) {
 
 bool SceneFilter::request_forecasts(const Event& event) {
   std::vector<std::string> groups;  // track groups with a track that needs a forecast
-  for (std::size_t k = 0; k < event.rows.size(); ++k) {
-    const Measurement& measurement = event.rows[k].measurement;
-    if (same_track_as_previous_row(event, k)) continue;
-    const TrackKey key = key_of(measurement);
-    const ObjectTrack& track = state_.tracks.at(key);
-    if (track.needs_forecast() &&
-        std::find(groups.begin(), groups.end(), key.first) == groups.end()) {
-      groups.push_back(key.first);
-    }
+  for (const TrackRows& rows : event.tracks) {
+    if (!rows.track->needs_forecast()) continue;
+    const std::string group = options_.tracks == TrackMode::kPerView ? event.rows[rows.first].measurement.view : std::string();
+    if (std::find(groups.begin(), groups.end(), group) == groups.end()) groups.push_back(group);
   }
   if (groups.empty()) return false;
   std::sort(groups.begin(), groups.end());
@@ -422,12 +417,13 @@ void SceneFilter::process_joint(Event& event) {
     MeasurementGate::Decision decision;
   };
   std::vector<Checked> checked;
-  for (std::size_t first = 0; first < event.rows.size();) {
+  checked.reserve(event.tracks.size());
+  for (std::size_t g = 0; g < event.tracks.size(); ++g) {
+    const std::size_t first = event.tracks[g].first;
+    const std::size_t end = g + 1 < event.tracks.size() ? event.tracks[g + 1].first : event.rows.size();
     const std::string& object = event.rows[first].measurement.object;
-    std::size_t end = first;
-    while (end < event.rows.size() && event.rows[end].measurement.object == object) ++end;
     const std::span<Row> rows(event.rows.data() + first, end - first);
-    ObjectTrack& track = state_.tracks[key_of(rows.front().measurement)];
+    ObjectTrack& track = *event.tracks[g].track;
     std::vector<Gaussian3> alone;  // with the gate: each measurement alone, corrected for its view's offset
     if (gate_.enabled()) {
       for (const Row& row : rows) alone.push_back(state_.joint.corrected(row.measurement, noise_scale(row.measurement.view)));
@@ -481,7 +477,6 @@ void SceneFilter::process_joint(Event& event) {
       }
     }
     checked.push_back(Checked{first, end, &track, std::move(prediction), std::move(decision)});
-    first = end;
   }
   if (refilter_) return;  // going back: the whole event comes again
   std::vector<const Measurement*> fused;
@@ -539,10 +534,12 @@ void SceneFilter::process_joint(Event& event) {
 
 void SceneFilter::report(Event& event, std::size_t first, std::size_t end, const Gaussian3& estimate,
                          const std::optional<TrackPrediction>& prediction, const std::vector<bool>& gated) {
+  const std::shared_ptr<const TrackPrediction> shared =
+      prediction ? std::make_shared<const TrackPrediction>(*prediction) : nullptr;
   for (std::size_t k = first; k < end; ++k) {
     Row& row = event.rows[k];
     if (row.reported) continue;
-    results_.push_back(Result{row.id, estimate, prediction, gated[k - first]});
+    results_.push_back(Result{row.id, estimate, shared, gated[k - first]});
     row.reported = true;
   }
 }

@@ -80,6 +80,7 @@
 #include <cstddef>
 #include <deque>
 #include <map>
+#include <memory>
 #include <optional>
 #include <stdexcept>
 #include <string>
@@ -150,7 +151,8 @@ class SceneFilter {
     std::size_t id;
     Gaussian3 estimate;
     // What the track predicted for it before the update; none: diffuse start, or left out as too late.
-    std::optional<TrackPrediction> prediction;
+    // Shared by the rows of one object and time (one copy per object, not per row).
+    std::shared_ptr<const TrackPrediction> prediction;
     bool gated = false;  // it failed the gate and was not fused (`estimate` is from the rest)
   };
   // The results of measurements processed since the last call, in processing order, into `results`
@@ -182,10 +184,17 @@ class SceneFilter {
     Measurement measurement;
     bool reported = false;
   };
+  // The rows of one track in an event: rows [first, next entry's first) of it.
+  struct TrackRows {
+    std::size_t first;
+    ObjectTrack* track;
+  };
   struct Event {
     double time;
     std::vector<Row> rows;  // (object, view) order
     bool started = false;   // step 1 done
+    // Set by start(), valid until the state is next restored (which makes the event start again).
+    std::vector<TrackRows> tracks;
   };
   using TrackKey = std::pair<std::string, std::string>;  // (view or "" in kPerObject, object)
   // Everything a checkpoint restores.
@@ -211,8 +220,6 @@ class SceneFilter {
   };
 
   TrackKey key_of(const Measurement& measurement) const;
-  // kPerObject: row k of the event belongs to the same track as row k − 1 (rows are in object order).
-  bool same_track_as_previous_row(const Event& event, std::size_t k) const;
   void insert(Event event);
   void rewind_to(double time);
   void start(Event& event);

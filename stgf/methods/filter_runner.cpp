@@ -56,7 +56,7 @@ void collect(SceneFilter& filter, std::vector<SceneFilter::Result>& results, Est
   for (SceneFilter::Result& result : results) {
     run.estimates[result.id] = result.estimate;
     estimated[result.id] = true;
-    if (keep_predictions) run.predictions[result.id] = result.prediction;
+    if (keep_predictions) run.predictions[result.id] = result.prediction ? std::optional(*result.prediction) : std::nullopt;
   }
 }
 

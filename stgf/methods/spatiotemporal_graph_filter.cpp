@@ -19,7 +19,7 @@ std::vector<Gaussian3> SpatiotemporalGraphFilter::fuse(std::span<const Measureme
   filter_.take_results(results_);
   for (SceneFilter::Result& result : results_) {
     estimates[result.id] = result.estimate;
-    last_predictions_[result.id] = result.prediction;
+    last_predictions_[result.id] = result.prediction ? std::optional(*result.prediction) : std::nullopt;
   }
   std::vector<Gaussian3> ordered;
   ordered.reserve(estimates.size());
