@@ -14,7 +14,13 @@ void NameIndex::clear() {
 }
 
 std::uint32_t NameIndex::id(std::string_view name) {
-  if (!names_.empty() && name == names_[last_]) return last_;
+  // Rows grouped by one name cycle through the other in the same order every time (the views of each
+  // object, or the objects of each view): the name after the last one is the likeliest next.
+  if (!names_.empty()) {
+    if (same_name(name, names_[last_])) return last_;
+    if (last_ + 1 < names_.size() && same_name(name, names_[last_ + 1])) return ++last_;
+    if (same_name(name, names_.front())) return last_ = 0;
+  }
   auto found = ids_.find(name);
   if (found == ids_.end()) {
     found = ids_.emplace(std::string(name), static_cast<std::uint32_t>(names_.size())).first;

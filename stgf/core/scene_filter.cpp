@@ -237,7 +237,7 @@ void SceneFilter::start(Event& event) {
   event.tracks.clear();
   for (std::size_t k = 0; k < event.rows.size(); ++k) {
     const Measurement& measurement = event.rows[k].measurement;
-    if (options_.tracks == TrackMode::kPerObject && k > 0 && event.rows[k - 1].measurement.object == measurement.object) {
+    if (options_.tracks == TrackMode::kPerObject && k > 0 && same_name(event.rows[k - 1].measurement.object, measurement.object)) {
       continue;
     }
     ObjectTrack& track = state_.tracks[key_of(measurement)];
