@@ -263,18 +263,20 @@ bool SceneFilter::request_forecasts(const Event& event) {
   const std::string& scene = event.rows.front().measurement.scene;
   for (const std::string& group : groups) {
     MotionGraph& graph = request_.emplace_back(MotionGraph{scene, group, event.time, {}});
-    std::vector<TrackKey>& keys = request_keys_.emplace_back();
+    std::vector<ObjectTrack*>& tracks = request_tracks_.emplace_back();
     for (auto it = state_.tracks.lower_bound({group, std::string()}); it != state_.tracks.end() && it->first.first == group;
          ++it) {
-      const ObjectTrack& track = it->second;
+      ObjectTrack& track = it->second;
       if (track.history().empty() || event.time - track.state().time > predictor_.prediction_horizon()) continue;
       ObjectHistory history{it->first.second, {}, {}};
+      history.positions.reserve(track.history().size());
+      history.times.reserve(track.history().size());
       for (const TrackPoint& point : track.history()) {
         history.positions.push_back(point.estimate.mean());
         history.times.push_back(point.time);
       }
       graph.objects.push_back(std::move(history));
-      keys.push_back(it->first);
+      tracks.push_back(&track);
     }
   }
   return true;
@@ -283,18 +285,18 @@ bool SceneFilter::request_forecasts(const Event& event) {
 void SceneFilter::provide_forecasts(const std::vector<std::vector<MotionForecast>>& forecasts) {
   if (forecasts.size() != request_.size()) throw std::invalid_argument("SceneFilter: one forecast list per requested graph");
   for (std::size_t g = 0; g < request_.size(); ++g) {
-    if (forecasts[g].size() != request_keys_[g].size()) {
+    if (forecasts[g].size() != request_tracks_[g].size()) {
       throw std::invalid_argument("SceneFilter: one forecast per object of each requested graph");
     }
   }
   for (std::size_t g = 0; g < request_.size(); ++g) {
-    for (std::size_t i = 0; i < request_keys_[g].size(); ++i) {
-      ObjectTrack& track = state_.tracks.at(request_keys_[g][i]);
+    for (std::size_t i = 0; i < request_tracks_[g].size(); ++i) {
+      ObjectTrack& track = *request_tracks_[g][i];
       if (track.needs_forecast()) track.set_forecast(forecasts[g][i]);
     }
   }
   request_.clear();
-  request_keys_.clear();
+  request_tracks_.clear();
 }
 
 void SceneFilter::close_frames(double time) {

@@ -254,7 +254,7 @@ class SceneFilter {
   std::deque<Checkpoint> checkpoints_;  // time order
   double latest_time_;
   std::vector<MotionGraph> request_;
-  std::vector<std::vector<TrackKey>> request_keys_;
+  std::vector<std::vector<ObjectTrack*>> request_tracks_;  // of request_'s objects (the state is not changed meanwhile)
   std::vector<Result> results_;
   std::size_t late_measurements_ = 0;
   std::size_t rewinds_ = 0;
