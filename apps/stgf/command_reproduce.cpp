@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: Apache-2.0
-// stgf reproduce [--benchmarks mpl,cad] [--out DIR] [--quick] [--seed S] [--epochs N] [--threads N]
+// stgf reproduce [--benchmarks mpl,cad] [--out DIR] [--quick] [--seed S] [--epochs N] [--threads N] [--portable]
 //
 // The paper's experiments end to end (DESIGN §2, §4, §5), for each benchmark:
 //   1. build the benchmark at DIR/benchmarks/NAME, or reuse it when it was built with the same recipe;
@@ -25,6 +25,7 @@
 #include <spdlog/spdlog.h>
 
 #include "commands.hpp"
+#include "learned_seam.hpp"
 #include "input_guard.hpp"
 #include "figures.hpp"
 #include "install_layout.hpp"
@@ -61,6 +62,7 @@ struct ReproduceOptions {
   std::uint64_t seed = 1;
   int epochs = 0;   // 0: 8, or 3 with --quick
   int threads = 1;  // LibTorch threads for training (0: all cores)
+  bool portable = false;  // generic LibTorch and OpenBLAS kernels (learned_seam.hpp)
   std::vector<int> instances;  // train, val, test instances; empty: the benchmark's defaults (or --quick's)
   std::string mpl_source;    // "": the shipped data (install_layout.hpp)
   std::string kitti_source;  // "": STGF_KITTI_DIR or share/stgf/kitti_tracking
@@ -413,10 +415,12 @@ void add_reproduce_command(CLI::App& app) {
   command->add_option("--epochs", options->epochs, "training epochs (default 8, or 3 with --quick)")
       ->check(CLI::PositiveNumber);
   command->add_option("--threads", options->threads, "LibTorch threads for training (0: all cores; more are faster only on an idle machine)")->capture_default_str();
+  command->add_flag(kPortableFlag, options->portable, kPortableFlagHelp);
   command->add_option("--mpl-source", options->mpl_source, "PETS 2009 S2L1 folder (default: the shipped one)");
   command->add_option("--kitti-source", options->kitti_source,
                       "KITTI tracking training folder, for cad (default: $STGF_KITTI_DIR, else share/stgf/kitti_tracking)");
   command->callback([options] {
+    if (options->portable) ensure_portable_kernels();
     ReproduceOptions resolved = *options;
     if (resolved.mpl_source.empty()) resolved.mpl_source = shipped_data_directory() + "/pets2009_s2l1";
     if (resolved.kitti_source.empty()) resolved.kitti_source = default_kitti_directory();

@@ -1,8 +1,9 @@
 // SPDX-License-Identifier: Apache-2.0
 // stgf train --benchmark DIR --out MODEL.pt [--input raw|fused] [--epochs N] [--lr X] [--batch N]
-//            [--seed S] [--threads N] [--resume MODEL.pt] [--history N] [--history-noise observed|matched]
+//            [--seed S] [--threads N] [--portable] [--resume MODEL.pt] [--history N] [--history-noise observed|matched]
 
 #include "commands.hpp"
+#include "learned_seam.hpp"
 #include "training_pipeline.hpp"
 
 namespace stgf::cli {
@@ -35,11 +36,15 @@ void add_train_command(CLI::App& app) {
   command->add_option("--seed", t.seed, "random seed; the same seed gives the same model")->capture_default_str()
       ->check(CLI::NonNegativeNumber);
   command->add_option("--threads", t.threads, "LibTorch threads for training (0: all cores; more are faster only on an idle machine)")->capture_default_str();
+  command->add_flag(kPortableFlag, options->portable, kPortableFlagHelp);
   command->add_option("--resume", t.resume, "continue from this model file (weights and optimizer state)");
   command->add_option("--history", t.shape.history_length, "history intervals Φ sees")
       ->capture_default_str()
       ->check(CLI::PositiveNumber);
-  command->callback([options] { train_model(*options); });
+  command->callback([options] {
+    if (options->portable) ensure_portable_kernels();
+    train_model(*options);
+  });
 }
 
 }  // namespace stgf::cli

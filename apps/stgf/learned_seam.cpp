@@ -18,7 +18,33 @@ std::vector<char*>& command_line() {
   return arguments;
 }
 
+constexpr const char* kAtenVariable = "ATEN_CPU_CAPABILITY";
+constexpr const char* kAtenPortable = "default";
+constexpr const char* kOpenBlasVariable = "OPENBLAS_CORETYPE";
+constexpr const char* kOpenBlasPortable = "Prescott";
+
+void pin_portable_kernels() {
+  ::setenv(kAtenVariable, kAtenPortable, /*overwrite=*/1);
+  ::setenv(kOpenBlasVariable, kOpenBlasPortable, /*overwrite=*/1);
+}
+
+bool portable_kernels_pinned() {
+  const char* aten = std::getenv(kAtenVariable);
+  const char* openblas = std::getenv(kOpenBlasVariable);
+  return aten != nullptr && std::strcmp(aten, kAtenPortable) == 0 && openblas != nullptr &&
+         std::strcmp(openblas, kOpenBlasPortable) == 0;
+}
+
 }  // namespace
+
+void ensure_portable_kernels() {
+  if (portable_kernels_pinned()) return;
+  std::vector<char*> arguments = command_line();
+  if (arguments.empty()) throw std::logic_error("ensure_portable_kernels: remember_command_line was not called");
+  pin_portable_kernels();
+  ::execv("/proc/self/exe", arguments.data());
+  throw std::runtime_error(std::string("cannot start stgf-learned again with portable kernels: ") + std::strerror(errno));
+}
 
 void remember_command_line(int argc, char** argv) {
   command_line().assign(argv, argv + argc);
@@ -37,6 +63,9 @@ void hand_over_to_learned_cli(const std::string& what) {
   // core made 2 training threads 2.5× slower than one; sleeping instead costs little when idle. Read
   // when OpenMP starts, so it is set here, before stgf-learned loads it (unless the user set it).
   ::setenv("OMP_WAIT_POLICY", "PASSIVE", /*overwrite=*/0);
+  for (const char* argument : arguments) {
+    if (argument != nullptr && std::strcmp(argument, kPortableFlag) == 0) pin_portable_kernels();
+  }
   ::execv(learned.c_str(), arguments.data());
   throw std::runtime_error("cannot start " + learned + ": " + std::strerror(errno));
 }

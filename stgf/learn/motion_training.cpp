@@ -2,6 +2,7 @@
 #include "stgf/learn/motion_training.hpp"
 
 #include <algorithm>
+#include <cstdlib>
 #include <chrono>
 #include <cmath>
 #include <filesystem>
@@ -278,6 +279,12 @@ TrainingReport train_motion_model(const std::vector<TrainingGraph>& train, const
       metadata["batch_graphs"] = options.batch_graphs;
       metadata["seed"] = options.seed;
       metadata["threads"] = torch::get_num_threads();  // weights are bitwise reproducible for the same count
+      // ... and the same kernels: LibTorch's and OpenBLAS's, chosen by the CPU unless pinned
+      // (stgf train --portable pins them to ATEN_CPU_CAPABILITY=default, OPENBLAS_CORETYPE=Prescott).
+      for (const char* variable : {"ATEN_CPU_CAPABILITY", "OPENBLAS_CORETYPE"}) {
+        const char* value = std::getenv(variable);
+        metadata["kernels"][variable] = value != nullptr ? value : "chosen by the CPU";
+      }
       metadata["history_noise"] =
           options.history == HistoryNoise::kObserved ? "observed" : "truth_with_matched_noise";
       impl.metadata = metadata;

@@ -93,9 +93,10 @@ class Cli : public ::testing::Test {
   void TearDown() override { fs::remove_all(directory_); }
 
   // Runs stgf inside the test directory, so file names on the command line are relative.
-  Result stgf(const std::string& arguments) const {
-    const std::string command = "cd '" + directory_.string() + "' && '" STGF_BINARY "' " + arguments +
-                                " >stdout.txt 2>stderr.txt";
+  // `environment`: variables for this run, as `env` takes them (NAME=VALUE ...).
+  Result stgf(const std::string& arguments, const std::string& environment = "") const {
+    const std::string command = "cd '" + directory_.string() + "' && env " + environment + " '" STGF_BINARY "' " +
+                                arguments + " >stdout.txt 2>stderr.txt";
     const int raw = std::system(command.c_str());
     Result result{WIFEXITED(raw) ? WEXITSTATUS(raw) : -1, slurp(directory_ / "stdout.txt"),
                   slurp(directory_ / "stderr.txt")};
@@ -593,6 +594,24 @@ TEST_F(Cli, TrainThenRunLearnedMethods) {
   ASSERT_EQ(eval.status, 0) << eval.err;
   EXPECT_THAT(eval.out, HasSubstr("| ours-l |"));
   EXPECT_THAT(eval.out, HasSubstr("| sttp |"));
+}
+
+// --portable pins LibTorch's and OpenBLAS's kernels, so the model's bytes do not depend on the kernels
+// this machine's vector units (or the user's environment) would choose; the model records them.
+TEST_F(Cli, PortableTrainingGivesTheSameModelWhateverKernelsTheMachineWouldChoose) {
+  if (!kWithLibTorch) GTEST_SKIP() << "built without LibTorch (-DSTGF_WITH_LIBTORCH=OFF)";
+  ASSERT_EQ(stgf("dataset synthetic --out bench --seed 3 --scenes 2 --objects 3 --views 2 --steps 15").status, 0);
+  const std::string train = "train --benchmark bench --epochs 2 --batch 8 --threads 1 --portable --out ";
+  const Result first = stgf(train + "first.pt", "-u ATEN_CPU_CAPABILITY -u OPENBLAS_CORETYPE");
+  ASSERT_EQ(first.status, 0) << first.err;
+  // Kernels a user (or a machine's setup) asked for: --portable overrides them before the libraries
+  // load, so these are never used (safe on a machine without AVX2).
+  const Result second = stgf(train + "second.pt", "ATEN_CPU_CAPABILITY=avx2 OPENBLAS_CORETYPE=Haswell");
+  ASSERT_EQ(second.status, 0) << second.err;
+  const std::string model = slurp(directory_ / "first.pt");
+  ASSERT_FALSE(model.empty());
+  EXPECT_EQ(model, slurp(directory_ / "second.pt"));
+  EXPECT_THAT(model, HasSubstr("Prescott"));
 }
 
 // Training never reports success without a new finite model, and never replaces the previous one
