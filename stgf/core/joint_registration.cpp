@@ -239,15 +239,10 @@ void JointRegistration::update(std::span<const Measurement* const> measurements,
   ObjectState& object = found->second;
   const Eigen::Index size = offsets_information_vector_.size();
   // Before: the conditional's information P⁻¹ = FᵀF with F = L_P⁻¹, and its term (F B)ᵀ, F â — U₋ is
-  // written straight into the pending columns.
+  // written straight into the pending columns once nothing can throw any more.
   const Cholesky3 prior_factor(object.covariance);
   if (!prior_factor.ok()) throw std::runtime_error("registration: a position's covariance is not positive definite");
   const Matrix3d prior_whitening = prior_factor.inverse_factor();  // F
-  const std::size_t pending = pending_added_.size();
-  pending_added_.resize(pending + static_cast<std::size_t>(3 * size));
-  pending_subtracted_.resize(pending + static_cast<std::size_t>(3 * size));
-  Eigen::Map<MatrixX3> before(pending_added_.data() + pending, size, 3);
-  before.noalias() = (prior_whitening.lazyProduct(object.offsets)).transpose();
   const Vector3d before_w = prior_whitening * object.mean;
   const Matrix3d prior_information = prior_whitening.transpose() * prior_whitening;  // P⁻¹
   Matrix3d information = prior_information;           // then P'⁻¹
@@ -278,6 +273,11 @@ void JointRegistration::update(std::span<const Measurement* const> measurements,
   const Cholesky3 posterior_factor(information);  // P'⁻¹ = L Lᵀ
   if (!posterior_factor.ok()) throw std::runtime_error("registration: a position's information is not positive definite");
   const Matrix3d covariance = symmetrised(posterior_factor.inverse());  // P'
+  const std::size_t pending = pending_added_.size();
+  pending_added_.resize(pending + static_cast<std::size_t>(3 * size));
+  pending_subtracted_.resize(pending + static_cast<std::size_t>(3 * size));
+  Eigen::Map<MatrixX3> before(pending_added_.data() + pending, size, 3);
+  before.noalias() = (prior_whitening.lazyProduct(object.offsets)).transpose();
   const Matrix3d carried = covariance * prior_information;             // P' P⁻¹
   for (Eigen::Index j = 0; j < object.offsets.cols(); ++j) object.offsets.col(j) = carried * object.offsets.col(j);
   for (const UpdateTerm& term : terms) {

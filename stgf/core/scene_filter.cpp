@@ -122,7 +122,7 @@ void SceneFilter::receive(std::span<const Measurement* const> measurements, std:
     if (const auto repeated = sort_by_object_and_view(rows, measurements, object_names_, view_names_)) {
       throw twice(*measurements[rows[*repeated]], time);
     }
-    Event& event = events.emplace_back(Event{time, {}, false});
+    Event& event = events.emplace_back(Event{time, {}, false, {}});
     event.rows.reserve(end - first);
     for (std::size_t k = first; k < end; ++k) event.rows.push_back(Row{ids[order[k]], *measurements[order[k]], false});
     first = end;
