@@ -10,6 +10,7 @@ namespace stgf::cli {
 
 void add_train_command(CLI::App& app) {
   auto options = std::make_shared<ModelTraining>();
+  auto portable = std::make_shared<bool>(false);  // --portable: pin the kernels first (learned_seam.hpp)
   MotionTrainingOptions& t = options->training;
   CLI::App* command = app.add_subcommand("train", kTrainDescription);
   command->add_option("--benchmark", options->benchmark, "benchmark folder (train/ and val/)")->required();
@@ -36,13 +37,13 @@ void add_train_command(CLI::App& app) {
   command->add_option("--seed", t.seed, "random seed; the same seed gives the same model")->capture_default_str()
       ->check(CLI::NonNegativeNumber);
   command->add_option("--threads", t.threads, "LibTorch threads for training (0: all cores; more are faster only on an idle machine)")->capture_default_str();
-  command->add_flag(kPortableFlag, options->portable, kPortableFlagHelp);
+  command->add_flag(kPortableFlag, *portable, kPortableFlagHelp);
   command->add_option("--resume", t.resume, "continue from this model file (weights and optimizer state)");
   command->add_option("--history", t.shape.history_length, "history intervals Φ sees")
       ->capture_default_str()
       ->check(CLI::PositiveNumber);
-  command->callback([options] {
-    if (options->portable) ensure_portable_kernels();
+  command->callback([options, portable] {
+    if (*portable) ensure_portable_kernels();
     train_model(*options);
   });
 }

@@ -32,7 +32,6 @@ struct ModelTraining {
   // here (1 = as recorded), so it predicts at lower frame rates too.
   std::vector<int> strides = {1, 2, 3};
   MotionTrainingOptions training;
-  bool portable = false;  // --portable: generic LibTorch and OpenBLAS kernels (learned_seam.hpp)
 };
 
 void train_model(ModelTraining options);

@@ -5,10 +5,8 @@
 #include <cmath>
 #include <cstdint>
 #include <limits>
-#include <numeric>
 #include <sstream>
 #include <string_view>
-#include <unordered_map>
 
 #include "stgf/core/multi_view_update.hpp"
 #include "stgf/core/name_index.hpp"
@@ -536,11 +534,11 @@ void SceneFilter::process_joint(Event& event) {
 
 void SceneFilter::report(Event& event, std::size_t first, std::size_t end, const Gaussian3& estimate,
                          const std::optional<TrackPrediction>& prediction, const std::vector<bool>& gated) {
-  const std::shared_ptr<const TrackPrediction> shared =
-      prediction ? std::make_shared<const TrackPrediction>(*prediction) : nullptr;
+  std::shared_ptr<const TrackPrediction> shared;  // made for the first row that reports
   for (std::size_t k = first; k < end; ++k) {
     Row& row = event.rows[k];
     if (row.reported) continue;
+    if (prediction && !shared) shared = std::make_shared<const TrackPrediction>(*prediction);
     results_.push_back(Result{row.id, estimate, shared, gated[k - first]});
     row.reported = true;
   }
