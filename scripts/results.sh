@@ -13,7 +13,7 @@ scripts/install-deps.sh
 scripts/build.sh >/dev/null
 
 out=build/reproduce
-build/stgf reproduce --benchmarks "${BENCHMARKS:-mpl,cad}" --out "$out" --seed 1 --threads 2 >/dev/null
+build/stgf reproduce --benchmarks "${BENCHMARKS:-mpl,cad}" --out "$out" --seed 1 --threads 2 --portable >/dev/null
 mkdir -p docs/figures
 cp "$out"/figures/*.svg "$out"/figures/*.png docs/figures/
 {

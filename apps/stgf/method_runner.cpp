@@ -47,6 +47,13 @@ void log_method_report(const std::string& method, const MethodConfig& config, co
                  method, report.restarted_tracks - report.gating.restarts, model->prediction_horizon());
   }
   log_gating(method, config.ours.gate, report.gating);
+  const MotionChoiceSummary& choice = report.motion_choice;
+  if (config.ours.motion_fallback == MotionFallback::kAuto && choice.switched_scenes > 0) {
+    spdlog::info("{}: constant velocity predicted better than the model in {} of {} scene(s), which followed it from "
+                 "then on ({} of them went back to the model); `motion_fallback: off` under `ours:` in --config "
+                 "keeps the model",
+                 method, choice.switched_scenes, choice.scenes, choice.switched_scenes - choice.constant_velocity_scenes);
+  }
   log_registration_prior_scales(method, report.registration_prior_scales, report.scenes_without_prior_scale);
   if (report.rewinds > 0) {
     spdlog::info("{}: {} late row(s) fused in their place in time (arrived after later ones, within the lag window "

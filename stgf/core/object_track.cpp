@@ -6,8 +6,24 @@
 
 namespace stgf {
 
+Vector3d ObjectTrack::last_velocity() const {
+  const std::size_t n = history_.size();
+  if (n < 2) return Vector3d::Zero();
+  const TrackPoint& last = history_[n - 1];
+  const TrackPoint& before = history_[n - 2];
+  return (last.estimate.mean() - before.estimate.mean()) / (last.time - before.time);
+}
+
+Vector3d ObjectTrack::displacement_to(double time, bool constant_velocity) const {
+  const double state_time = state_->time;
+  if (constant_velocity) return last_velocity() * (time - state_time);
+  if (!forecast_) return Vector3d::Zero();
+  const double origin = forecast_origin();
+  return forecast_->displacement(time - origin) - forecast_->displacement(state_time - origin);
+}
+
 ObjectTrack::Motion ObjectTrack::motion_to(double time, const MotionPredictor& predictor,
-                                           const ProcessNoiseScale& scale) const {
+                                           const ProcessNoiseScale& scale, bool constant_velocity) const {
   if (empty()) throw std::logic_error("ObjectTrack::motion_to needs a track that is not empty");
   if (needs_forecast()) throw std::logic_error("ObjectTrack::motion_to needs the forecast of the track's history");
   const double state_time = state_->time;
@@ -16,8 +32,7 @@ ObjectTrack::Motion ObjectTrack::motion_to(double time, const MotionPredictor& p
   const double tau = time - origin;
   const double tau_state = state_time - origin;
   Motion motion;
-  motion.displacement = forecast_ ? Vector3d(forecast_->displacement(tau) - forecast_->displacement(tau_state))
-                                  : Vector3d::Zero();
+  motion.displacement = displacement_to(time, constant_velocity);
   motion.process_noise = symmetrised(predictor.process_noise(tau) -
                                      (tau_state > 0.0 ? predictor.process_noise(tau_state) : Matrix3d::Zero()));
   motion.covariance = scale.scaled(motion.process_noise);
@@ -29,8 +44,9 @@ ObjectTrack::Motion ObjectTrack::motion_to(double time, const MotionPredictor& p
   return motion;
 }
 
-TrackPrediction ObjectTrack::predict(double time, const MotionPredictor& predictor, const ProcessNoiseScale& scale) const {
-  const Motion motion = motion_to(time, predictor, scale);
+TrackPrediction ObjectTrack::predict(double time, const MotionPredictor& predictor, const ProcessNoiseScale& scale,
+                                     bool constant_velocity) const {
+  const Motion motion = motion_to(time, predictor, scale, constant_velocity);
   const Gaussian3& state = state_->estimate;
   return {Gaussian3::from_covariance(state.mean() + motion.displacement, state.covariance() + motion.covariance),
           state.covariance(), motion.process_noise, motion.interval, history_.size()};

@@ -68,16 +68,24 @@ class ObjectTrack {
   void set_forecast(const MotionForecast& forecast) { forecast_ = forecast; }
 
   // The motion from the state to `time` (> state().time) as above: x − x̂_s and P − P̂_s, with the parts
-  // of TrackPrediction. A track with a history needs its forecast.
+  // of TrackPrediction. A track with a history needs its forecast. With `constant_velocity`, f is
+  // instead the constant-velocity forecast of the same history, f(τ) = v τ with v from its last two
+  // positions (zero with fewer), and Q the predictor's (motion_choice.hpp).
   struct Motion {
     Vector3d displacement;
     Matrix3d covariance;     // D [Q(τ) − Q(τ_s)] D (+ the speed term)
     Matrix3d process_noise;  // Q(τ) − Q(τ_s)
     double interval;
   };
-  Motion motion_to(double time, const MotionPredictor& predictor, const ProcessNoiseScale& scale) const;
+  Motion motion_to(double time, const MotionPredictor& predictor, const ProcessNoiseScale& scale,
+                   bool constant_velocity = false) const;
   // The prediction to `time`: the state moved by motion_to(time).
-  TrackPrediction predict(double time, const MotionPredictor& predictor, const ProcessNoiseScale& scale) const;
+  TrackPrediction predict(double time, const MotionPredictor& predictor, const ProcessNoiseScale& scale,
+                          bool constant_velocity = false) const;
+  // x − x̂_s of motion_to(time, …, constant_velocity) alone.
+  Vector3d displacement_to(double time, bool constant_velocity) const;
+  // v of the constant-velocity forecast: (p_h − p_{h−1}) / (t_h − t_{h−1}), zero with fewer than two positions.
+  Vector3d last_velocity() const;
   // Makes (time, estimate) the state.
   void update(double time, const Gaussian3& estimate);
 

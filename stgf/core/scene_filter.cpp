@@ -63,7 +63,8 @@ SceneFilter::SceneFilter(const MotionPredictor& predictor, const FilterOptions& 
     : predictor_(predictor),
       options_(options),
       gate_(options.gate),
-      state_{{}, ViewRegistration(options.registration), JointRegistration(options.registration), {}, {}, 0, 0, {}},
+      state_{{}, ViewRegistration(options.registration), JointRegistration(options.registration), {},
+             MotionChoice(options.motion_fallback), {}, 0, 0, {}},
       latest_time_(-std::numeric_limits<double>::infinity()) {
   if (!std::isfinite(options.lag_window) || options.lag_window < 0.0) {
     throw std::invalid_argument("the lag window must be finite and >= 0 seconds");
@@ -402,13 +403,37 @@ double SceneFilter::noise_scale(std::string_view view) const {
   return gate_.enabled() ? state_.view_noise.scale(view) : 1.0;
 }
 
+bool SceneFilter::follows_constant_velocity() const {
+  return options_.motion_fallback == MotionFallback::kAlways || state_.motion_choice.constant_velocity();
+}
+
+const ProcessNoiseScale& SceneFilter::followed_scale() const {
+  return follows_constant_velocity() ? state_.motion_choice.fallback_scale() : state_.process_noise_scale;
+}
+
+void SceneFilter::learn_motion(const Vector3d& innovation, const Matrix3d& known_covariance,
+                               const Matrix3d& process_noise, const Vector3d& displacement_difference) {
+  const bool constant_velocity = follows_constant_velocity();
+  const Vector3d other = innovation + displacement_difference;
+  const Vector3d& learned = constant_velocity ? other : innovation;
+  const Vector3d& fallback = constant_velocity ? innovation : other;
+  const bool adapt = options_.adapt_process_noise;
+  if (state_.motion_choice.compares()) {
+    state_.motion_choice.add(learned, fallback, known_covariance, process_noise, state_.process_noise_scale, adapt);
+  } else if (options_.motion_fallback == MotionFallback::kAlways && adapt) {
+    state_.motion_choice.learn_fallback(fallback, known_covariance, process_noise);
+  }
+  if (adapt) state_.process_noise_scale.add(learned, known_covariance, process_noise);
+}
+
 void SceneFilter::process_joint(Event& event) {
   // Three passes over the event's objects, so that every check is against the state before the
   // event and every estimate includes all of it (through the offsets, one object's measurements move
   // the others' positions): each object is predicted and its measurements checked; then each is
   // updated with those that passed; then each reports its fused position.
   const double time = event.time;
-  const ProcessNoiseScale scale = state_.process_noise_scale;  // λ from the earlier events
+  const bool constant_velocity = follows_constant_velocity();  // as the earlier events decided
+  const ProcessNoiseScale scale = followed_scale();              // λ from the earlier events
   ViewNoiseScales& view_noise = state_.view_noise;
   struct Checked {
     std::size_t first, end;  // its rows
@@ -433,7 +458,7 @@ void SceneFilter::process_joint(Event& event) {
     std::vector<JointRegistration::Innovation> innovations;  // against the prediction, when gated by it
     std::vector<double> distances;
     if (!track.empty()) {
-      motion = track.motion_to(time, predictor_, scale);
+      motion = track.motion_to(time, predictor_, scale, constant_velocity);
       const Gaussian3 state = state_.joint.position(object);
       state_.joint.predict(object, motion->displacement, motion->covariance);
       // The predicted position: p_i + d, Σ_ii + Q (what position() now gives, without recomputing it).
@@ -441,7 +466,7 @@ void SceneFilter::process_joint(Event& event) {
           Gaussian3::from_covariance(state.mean() + motion->displacement, state.covariance() + motion->covariance),
           state.covariance(), motion->process_noise, motion->interval, track.history().size()};
       // Innovations against the prediction: every row's for the gate, else the first row's to teach Q.
-      const bool teaches_process_noise = !track.has_frame() && options_.adapt_process_noise;
+      const bool teaches_process_noise = !track.has_frame() && learns_motion();
       if (track.history().size() >= 2 && (gate_.enabled() || teaches_process_noise)) {
         for (const Row& row : rows) {
           innovations.push_back(state_.joint.innovation(row.measurement, noise_scale(row.measurement.view)));
@@ -469,11 +494,12 @@ void SceneFilter::process_joint(Event& event) {
     }
     // The first fused measurement of a frame teaches the scale of Q, with its innovation against the
     // prediction.
-    if (!track.empty() && !track.has_frame() && track.history().size() >= 2 && options_.adapt_process_noise) {
+    if (!track.empty() && !track.has_frame() && track.history().size() >= 2 && learns_motion()) {
       const auto passed = std::find(decision.passes.begin(), decision.passes.end(), true);
       if (passed != decision.passes.end()) {
         const JointRegistration::Innovation& innovation = innovations[static_cast<std::size_t>(passed - decision.passes.begin())];
-        state_.process_noise_scale.add(innovation.value, innovation.covariance - motion->covariance, motion->process_noise);
+        learn_motion(innovation.value, innovation.covariance - motion->covariance, motion->process_noise,
+                     motion->displacement - track.displacement_to(time, !constant_velocity));
       }
     }
     checked.push_back(Checked{first, end, &track, std::move(prediction), std::move(decision)});
@@ -551,12 +577,14 @@ void SceneFilter::process(Event& event) {
     return;
   }
   const double time = event.time;
-  const ProcessNoiseScale scale = state_.process_noise_scale;  // λ from the earlier events
+  const bool constant_velocity = follows_constant_velocity();  // as the earlier events decided
+  const ProcessNoiseScale scale = followed_scale();              // λ from the earlier events
   ViewNoiseScales& view_noise = state_.view_noise;
   struct Innovation {
     Vector3d value;
-    Matrix3d known_covariance;  // P̂_s + R
-    Matrix3d process_noise;     // Q(τ) − Q(τ_s)
+    Matrix3d known_covariance;        // P̂_s + R
+    Matrix3d process_noise;           // Q(τ) − Q(τ_s)
+    Vector3d displacement_difference;  // d_followed − d_other
   };
   std::vector<Innovation> innovations;
   std::vector<const Measurement*> fused_rows;  // every measurement that passed the gate
@@ -598,7 +626,7 @@ void SceneFilter::process(Event& event) {
     }
     std::vector<double> distances;
     if (reference) {
-      reference_prediction = reference->predict(time, predictor_, scale);
+      reference_prediction = reference->predict(time, predictor_, scale, constant_velocity);
       if (gate_.enabled() && reference->history().size() >= 2) {
         for (std::size_t k = first; k < end; ++k) {
           const Vector3d innovation = alone[k - first].mean() - reference_prediction->prior.mean();
@@ -649,7 +677,7 @@ void SceneFilter::process(Event& event) {
     for (std::size_t t = 0; t < track_count; ++t) {
       ObjectTrack& track = state_.tracks[key_of(event.rows[first + t].measurement)];
       std::optional<TrackPrediction> prediction;
-      if (!track.empty()) prediction = track.predict(time, predictor_, scale);
+      if (!track.empty()) prediction = track.predict(time, predictor_, scale, constant_velocity);
       if (!prediction && !combined) {
         // kPerView: this view's track is empty and every measurement failed the gate against another
         // view's track: nothing to start it from; the row gets that track's prediction.
@@ -663,10 +691,11 @@ void SceneFilter::process(Event& event) {
                               : registration ? multi_view_update(prediction->prior, std::span(&*combined, 1))
                                              : multi_view_update(prediction->prior, positions);
       const bool opens_frame = !track.has_frame();
-      if (opens_frame && prediction && combined && prediction->history_positions >= 2 &&
-          options_.adapt_process_noise && !innovation) {
+      if (opens_frame && prediction && combined && prediction->history_positions >= 2 && learns_motion() &&
+          !innovation) {
         innovation = Innovation{combined->mean() - prediction->prior.mean(),
-                                prediction->state_covariance + combined->covariance(), prediction->process_noise};
+                                prediction->state_covariance + combined->covariance(), prediction->process_noise,
+                                track.displacement_to(time, constant_velocity) - track.displacement_to(time, !constant_velocity)};
       }
       if (opens_frame) track.open_frame(time);
       track.update(time, fused);
@@ -681,7 +710,8 @@ void SceneFilter::process(Event& event) {
   }
   if (options_.tracks == TrackMode::kPerView && registration) state_.registration.learn(fused_rows);
   for (const Innovation& innovation : innovations) {
-    state_.process_noise_scale.add(innovation.value, innovation.known_covariance, innovation.process_noise);
+    learn_motion(innovation.value, innovation.known_covariance, innovation.process_noise,
+                 innovation.displacement_difference);
   }
 }
 

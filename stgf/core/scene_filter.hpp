@@ -38,7 +38,9 @@
 //      offsets of view_registration.hpp, combines them into one, and learns the offsets from the
 //      event's cross-view differences afterwards; without a prior, both are the multi-view update;
 //   4. per object whose frame opens here with a prediction from two or more history positions, the
-//      innovation of its (first) measurement teaches the scale of Q (process_noise_scale.hpp).
+//      innovation of its (first) measurement teaches the scale of Q (process_noise_scale.hpp) and
+//      weighs the motion model's prediction against constant velocity's (motion_choice.hpp); from
+//      the next event on, the scene's tracks follow the one the evidence favours.
 // On synchronised views at the model's rate a frame is one event, and this is DESIGN §1's filter.
 // Within an event, rows are taken in (object, view) order, so the result does not depend on the order
 // in which they were given.
@@ -88,6 +90,7 @@
 
 #include "stgf/core/joint_registration.hpp"
 #include "stgf/core/measurement_gate.hpp"
+#include "stgf/core/motion_choice.hpp"
 #include "stgf/core/name_index.hpp"
 #include "stgf/core/object_track.hpp"
 #include "stgf/core/process_noise_scale.hpp"
@@ -103,6 +106,9 @@ enum class LatePolicy { kLeaveOut, kStop };
 struct FilterOptions {
   RegistrationPrior registration;           // the views' unstated offsets (zero: none)
   bool adapt_process_noise = true;          // scale Q online from the innovations (false: λ = 1)
+  // Whether a scene whose innovations say constant velocity predicts it better than the motion model
+  // follows constant velocity (motion_choice.hpp).
+  MotionFallback motion_fallback = MotionFallback::kAuto;
   // kPerObject: learn the registration prior's scale κ from the views' disagreements
   // (registration_prior_scale.hpp; false: κ = 1, the prior as given)
   bool adapt_registration_prior = true;
@@ -169,6 +175,8 @@ class SceneFilter {
   const ViewNoiseScales& view_noise_scales() const { return state_.view_noise; }
   std::size_t gate_restarts() const { return state_.gate_restarts; }
   const Vector3d& process_noise_scales() const { return state_.process_noise_scale.scales(); }
+  // Which motion the tracks follow, and the evidence for it (motion_choice.hpp).
+  const MotionChoice& motion_choice() const { return state_.motion_choice; }
   // The estimated registration offset of a view (t, δ; zero for a zero prior or an unknown view).
   Eigen::Matrix<double, 6, 1> registration_offset(std::string_view view) const;
   // κ̂, the scale learned for the registration prior (1 when not learned), and whether it was: the
@@ -203,6 +211,7 @@ class SceneFilter {
     ViewRegistration registration;  // kPerView
     JointRegistration joint;        // kPerObject, with a registration prior
     ProcessNoiseScale process_noise_scale;
+    MotionChoice motion_choice;
     ViewNoiseScales view_noise;
     std::size_t restarted_tracks = 0;
     std::size_t gate_restarts = 0;
@@ -229,6 +238,15 @@ class SceneFilter {
   void report(Event& event, std::size_t first, std::size_t end, const Gaussian3& estimate,
               const std::optional<TrackPrediction>& prediction, const std::vector<bool>& gated);
   double noise_scale(std::string_view view) const;  // μ of the view; 1 without the gate
+  // Whether this event's tracks follow constant velocity, and the λ of the motion they follow.
+  bool follows_constant_velocity() const;
+  const ProcessNoiseScale& followed_scale() const;
+  // Whether step 4 takes samples at all.
+  bool learns_motion() const { return options_.adapt_process_noise || state_.motion_choice.compares(); }
+  // Step 4 for one sample: the innovation ν of the motion followed, A = P̂_s + R, Q(τ) − Q(τ_s), and
+  // d_followed − d_other, the two motions' displacements (the other's innovation is ν + that).
+  void learn_motion(const Vector3d& innovation, const Matrix3d& known_covariance, const Matrix3d& process_noise,
+                    const Vector3d& displacement_difference);
   // A release of a view's offset that add() found (view_noise_scales.hpp): applied now, or scheduled
   // from when the shift began and the filter set to go back there.
   void schedule_release(const std::string& view, const ViewNoiseScales::Release& release, double time);

@@ -159,6 +159,11 @@ void read_ours(const std::string& path, const YAML::Node& node, OursSettings& se
       } catch (const YAML::Exception&) {
         throw InputError(path, line_of(entry.second), name + " must be true or false");
       }
+    } else if (key == "motion_fallback") {
+      const std::string value = one_of(path, name, entry.second, {"auto", "off", "always"});
+      settings.motion_fallback = value == "auto" ? MotionFallback::kAuto
+                                 : value == "off" ? MotionFallback::kOff
+                                                  : MotionFallback::kAlways;
     } else if (key == "adapt_registration_prior") {
       try {
         settings.adapt_registration_prior = entry.second.as<bool>();

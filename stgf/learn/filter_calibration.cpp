@@ -23,6 +23,7 @@ std::vector<Residual> filter_residuals(const MotionModel& model, const Registrat
   FilterOptions options;
   options.registration = registration;
   options.adapt_process_noise = false;
+  options.motion_fallback = MotionFallback::kOff;  // Q of the motion model itself
   options.adapt_registration_prior = false;  // the prior as calibrated on this split
   options.gate.enabled = false;  // Q is what the gate is measured with: calibrate it on every residual
   const FilterRun run = run_spatiotemporal_graph_filter(model, options, measurements, /*keep_predictions=*/true);

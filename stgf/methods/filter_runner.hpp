@@ -48,6 +48,7 @@ struct FilterRun {
   // without a registration prior or with adaptation off.
   std::vector<double> registration_prior_scales;
   std::size_t scenes_without_prior_scale = 0;
+  MotionChoiceSummary motion_choice;   // which motion the scenes followed (motion_choice.hpp)
 };
 
 // Throws std::invalid_argument when some rows have an arrival time and others not.

@@ -9,6 +9,7 @@
 
 #include "stgf/core/constant_velocity_filter.hpp"
 #include "stgf/core/measurement_gate.hpp"
+#include "stgf/core/motion_choice.hpp"
 #include "stgf/methods/localizer.hpp"
 
 namespace stgf {
@@ -20,6 +21,7 @@ struct OursSettings {
   std::optional<Vector3d> translation_sigma;  // σ of the translation offset (m); unset: the model's calibration
   std::optional<double> noise_ratio;          // σ of the noise-unit offset; unset: the model's calibration
   bool adapt_process_noise = true;            // scale Q online from the innovations
+  MotionFallback motion_fallback = MotionFallback::kAuto;  // constant velocity where it predicts better
   bool adapt_registration_prior = true;       // scale the registration prior from the views' disagreements
   bool per_view_tracks = false;               // the paper's per-view tracks instead of one per object
   double lag_window = 1.0;                    // s: how late a message may arrive and still be fused in place

@@ -28,6 +28,7 @@ FilterOptions filter_options_for(const OursSettings& settings, const nlohmann::j
   FilterOptions options;
   options.registration = resolve_registration_prior(settings, metadata, model_path, registration_missing);
   options.adapt_process_noise = settings.adapt_process_noise;
+  options.motion_fallback = settings.motion_fallback;
   options.adapt_registration_prior = settings.adapt_registration_prior;
   options.tracks = settings.per_view_tracks ? TrackMode::kPerView : TrackMode::kPerObject;
   options.lag_window = settings.lag_window;
@@ -45,6 +46,7 @@ void MethodRunReport::add(const MethodRunReport& later) {
   registration_prior_scales.insert(registration_prior_scales.end(), later.registration_prior_scales.begin(),
                                    later.registration_prior_scales.end());
   scenes_without_prior_scale += later.scenes_without_prior_scale;
+  motion_choice.add(later.motion_choice);
 }
 
 std::vector<Gaussian3> run_named_method(const std::string& method, const MethodConfig& config, const TrainedMotionModel* model,
@@ -85,6 +87,7 @@ std::vector<Gaussian3> NamedMethodRun::add(std::span<const Measurement> rows) {
   part.gating = std::move(run.gating);
   part.registration_prior_scales = std::move(run.registration_prior_scales);
   part.scenes_without_prior_scale = run.scenes_without_prior_scale;
+  part.motion_choice = run.motion_choice;
   report_.add(part);
   if (prediction_only) {
     for (std::size_t row = 0; row < rows.size(); ++row) {

@@ -37,6 +37,7 @@ struct MethodRunReport {
   GatingSummary gating;               // what the χ² gate did (its restarts are in restarted_tracks too)
   std::vector<double> registration_prior_scales;  // κ̂ per scene that learned it (filter_runner.hpp)
   std::size_t scenes_without_prior_scale = 0;     // scenes that kept κ = 1
+  MotionChoiceSummary motion_choice;              // which motion the scenes followed
 
   // Adds what a run over later scenes did (a list run in parts).
   void add(const MethodRunReport& later);
