@@ -206,6 +206,8 @@ class Filter {
   std::size_t rewinds() const { return filter_->rewinds(); }
   std::size_t refilters() const { return filter_->refilters(); }
   std::size_t restarted_tracks() const { return filter_->restarted_tracks(); }
+  // Which motion the tracks follow (design §1.13): "model" or "constant-velocity".
+  std::string motion() const { return filter_->motion_choice().constant_velocity() ? "constant-velocity" : "model"; }
   // Per view: what the χ² gate checked and left out, and its noise scale (design §1.12).
   py::dict gating() const {
     py::dict views;
@@ -258,6 +260,7 @@ py::dict run(const std::string& method, const py::object& scene, const Array& ti
   counts["refilters"] = report.gating.refilters;
   counts["late_measurements"] = report.late_measurements;
   counts["registration_missing"] = report.registration_missing;
+  counts["constant_velocity_scenes"] = report.motion_choice.constant_velocity_scenes;
   out["report"] = counts;
   return out;
 }
@@ -450,6 +453,7 @@ PYBIND11_MODULE(_stgf, m) {
       .def_property_readonly("rewinds", &Filter::rewinds)
       .def_property_readonly("refilters", &Filter::refilters)
       .def_property_readonly("restarted_tracks", &Filter::restarted_tracks)
+      .def_property_readonly("motion", &Filter::motion)
       .def_property_readonly("gating", &Filter::gating);
 
   m.def("run", &sp::run, py::arg("method"), py::arg("scene"), py::arg("time"), py::arg("view"), py::arg("object"),

@@ -86,6 +86,19 @@ class TestFilter(unittest.TestCase):
         self.assertGreaterEqual(gating["b"]["checked"], 1)
         self.assertEqual(f.refilters, 0)  # one gross error is no faulty view: nothing to go back for
 
+    def test_motion_fallback_is_reported(self):
+        # Without a model the filter's motion model is constant velocity already: nothing to switch to.
+        # With `motion_fallback: always` the filter says it follows constant velocity.
+        f = stgf.Filter()
+        f.fuse([0.0, 0.1, 0.2], ["a", "a", "a"], "o", np.array([[0.0, 0, 0], [0.1, 0, 0], [0.2, 0, 0]]),
+               np.stack([0.01 * np.eye(3)] * 3))
+        self.assertEqual(f.motion, "model")
+        with tempfile.TemporaryDirectory() as folder:
+            config = os.path.join(folder, "c.yaml")
+            with open(config, "w") as file:
+                file.write("ours:\n  motion_fallback: always\n")
+            self.assertEqual(stgf.Filter(config=config).motion, "constant-velocity")
+
     def test_registration_prior_scales_to_the_views_offsets(self):
         # Six views whose offsets are five times the prior's σ (0.05 m): the prior's scale κ, learned
         # from their disagreements, comes out near 25; with adaptation off it stays 1.

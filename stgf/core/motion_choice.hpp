@@ -36,17 +36,14 @@ class MotionChoice {
   // ln 100: the log Bayes factor at which the scene switches.
   static constexpr double kSwitchEvidence = 4.605170185988091;
 
-  explicit MotionChoice(MotionFallback policy = MotionFallback::kOff) : policy_(policy) {}
+  explicit MotionChoice(MotionFallback policy = MotionFallback::kOff)
+      : policy_(policy), constant_velocity_(policy == MotionFallback::kAlways) {}
 
-  // Whether the tracks follow constant velocity now.
+  // Whether the tracks follow constant velocity now (always with kAlways, never with kOff).
   bool constant_velocity() const { return constant_velocity_; }
   // Whether samples are wanted (kAuto).
   bool compares() const { return policy_ == MotionFallback::kAuto; }
 
-  // λ of the motion the tracks follow now, given Φ's.
-  const ProcessNoiseScale& scale(const ProcessNoiseScale& learned) const {
-    return constant_velocity_ || policy_ == MotionFallback::kAlways ? fallback_scale_ : learned;
-  }
 
   // One sample: the innovation of both models' predictions (ν_Φ, ν_cv), A, and Q(τ) − Q(τ_s).
   // `learned` is Φ's λ before this sample. With `adapt`, λ_cv learns from ν_cv.
@@ -64,7 +61,7 @@ class MotionChoice {
 
  private:
   MotionFallback policy_;
-  bool constant_velocity_ = false;
+  bool constant_velocity_;
   ProcessNoiseScale fallback_scale_;
   double evidence_ = 0.0;
   std::size_t switches_ = 0;

@@ -403,9 +403,7 @@ double SceneFilter::noise_scale(std::string_view view) const {
   return gate_.enabled() ? state_.view_noise.scale(view) : 1.0;
 }
 
-bool SceneFilter::follows_constant_velocity() const {
-  return options_.motion_fallback == MotionFallback::kAlways || state_.motion_choice.constant_velocity();
-}
+bool SceneFilter::follows_constant_velocity() const { return state_.motion_choice.constant_velocity(); }
 
 const ProcessNoiseScale& SceneFilter::followed_scale() const {
   return follows_constant_velocity() ? state_.motion_choice.fallback_scale() : state_.process_noise_scale;

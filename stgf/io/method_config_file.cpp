@@ -125,7 +125,9 @@ std::string one_of(const std::string& path, const std::string& key, const YAML::
                    const std::vector<std::string>& choices) {
   const std::string value = node.IsScalar() ? node.as<std::string>() : std::string();
   if (std::find(choices.begin(), choices.end(), value) == choices.end()) {
-    throw InputError(path, line_of(node), key + " must be " + choices[0] + " or " + choices[1]);
+    std::string listed = choices.back();  // "a, b or c"
+    for (std::size_t k = choices.size() - 1; k-- > 0;) listed = choices[k] + (k + 2 == choices.size() ? " or " : ", ") + listed;
+    throw InputError(path, line_of(node), key + " must be " + listed);
   }
   return value;
 }

@@ -153,6 +153,7 @@ TEST(MethodConfigFile, ShippedConfigHoldsTheDefaults) {
   EXPECT_EQ(shipped.ours.per_view_tracks, defaults.ours.per_view_tracks);
   EXPECT_EQ(shipped.ours.lag_window, defaults.ours.lag_window);
   EXPECT_EQ(shipped.ours.stop_on_late, defaults.ours.stop_on_late);
+  EXPECT_EQ(shipped.ours.motion_fallback, defaults.ours.motion_fallback);
 }
 
 // Tracks, the lag window and what happens to a message later than it.
@@ -167,6 +168,18 @@ TEST(MethodConfigFile, ReadsOursTimeSettings) {
   EXPECT_EQ(error_of("ours:\n  late_measurements: [stop]\n"),
             "c.yaml:2: ours.late_measurements must be leave-out or stop");
   EXPECT_EQ(error_of("ours:\n  lag_window_s: -1\n"), "c.yaml:2: ours.lag_window_s must be a finite number >= 0");
+}
+
+// Which motion a scene follows (core/motion_choice.hpp): the model, constant velocity where the
+// innovations favour it (the default), or constant velocity always.
+TEST(MethodConfigFile, ReadsTheMotionFallback) {
+  EXPECT_EQ(MethodConfig{}.ours.motion_fallback, MotionFallback::kAuto);
+  EXPECT_EQ(parse_method_config("c.yaml", "ours:\n  motion_fallback: off\n").ours.motion_fallback, MotionFallback::kOff);
+  EXPECT_EQ(parse_method_config("c.yaml", "ours:\n  motion_fallback: always\n").ours.motion_fallback,
+            MotionFallback::kAlways);
+  EXPECT_EQ(parse_method_config("c.yaml", "ours:\n  motion_fallback: auto\n").ours.motion_fallback, MotionFallback::kAuto);
+  EXPECT_EQ(error_of("ours:\n  adapt_process_noise: true\n  motion_fallback: sometimes\n"),
+            "c.yaml:3: ours.motion_fallback must be auto, off or always");
 }
 
 }  // namespace

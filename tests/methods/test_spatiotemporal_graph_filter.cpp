@@ -5,6 +5,7 @@
 #include "stgf/methods/spatiotemporal_graph_filter.hpp"
 
 #include <cmath>
+#include <map>
 #include <random>
 
 #include <Eigen/LU>
@@ -321,6 +322,66 @@ TEST(SpatiotemporalGraphFilter, ReleasesAJumpFromWhenItBegan) {
   EXPECT_GE(stays.d.offset_releases, 1u);
   EXPECT_GE(back.refilters, 1u);
   EXPECT_LT(back.error, stays.error) << back.error << " against " << stays.error;
+}
+
+// A motion model that is wrong for the data: constant velocity plus an acceleration that is not there.
+class WrongAccelerationPredictor final : public MotionPredictor {
+ public:
+  std::vector<std::vector<MotionForecast>> forecast(std::span<const MotionGraph> graphs) const override {
+    std::vector<std::vector<MotionForecast>> forecasts = base_.forecast(graphs);
+    for (auto& graph : forecasts) {
+      for (MotionForecast& forecast : graph) forecast.acceleration = Vector3d(20.0, 0.0, 0.0);
+    }
+    return forecasts;
+  }
+  Matrix3d process_noise(double dt) const override { return base_.process_noise(dt); }
+  int history_positions() const override { return base_.history_positions(); }
+  double history_spacing() const override { return base_.history_spacing(); }
+  double typical_speed() const override { return base_.typical_speed(); }
+  double prediction_horizon() const override { return base_.prediction_horizon(); }
+
+ private:
+  ConstantVelocityPredictor base_{0.05, 1.0};
+};
+
+TEST(SpatiotemporalGraphFilter, FollowsConstantVelocityWhereTheModelPredictsWorse) {
+  const WrongAccelerationPredictor predictor;
+  const Matrix3d r = 0.01 * 0.01 * Matrix3d::Identity();
+  std::mt19937_64 random(7);
+  std::normal_distribution<double> noise(0.0, 0.01);
+  std::vector<std::vector<Measurement>> steps;
+  std::vector<Vector3d> truth;
+  for (int k = 0; k < 60; ++k) {
+    const double t = 0.1 * k;
+    truth.push_back(Vector3d(1.0 * t, 0.5 * t, 0.0));
+    std::vector<Measurement> rows;
+    for (const char* view : {"a", "b"}) {
+      rows.push_back(measurement(t, view, "o", truth.back() + Vector3d(noise(random), noise(random), noise(random)), r));
+    }
+    steps.push_back(rows);
+  }
+  // Mean error over the last 30 steps of the estimates and of the predictions before them.
+  std::map<MotionFallback, double> late_error, late_prediction_error;
+  for (const MotionFallback policy : {MotionFallback::kOff, MotionFallback::kAuto, MotionFallback::kAlways}) {
+    FilterOptions options;
+    options.motion_fallback = policy;
+    SpatiotemporalGraphFilter filter(predictor, options);
+    for (int k = 0; k < 60; ++k) {
+      const std::vector<Gaussian3> estimates = step(filter, 0.1 * k, steps[k]);
+      if (k < 30) continue;
+      late_error[policy] += (estimates[0].mean() - truth[k]).norm() / 30.0;
+      late_prediction_error[policy] += (filter.last_predictions()[0]->prior.mean() - truth[k]).norm() / 30.0;
+    }
+    const MotionChoice& choice = filter.motion_choice();
+    EXPECT_EQ(choice.constant_velocity(), policy != MotionFallback::kOff);
+    EXPECT_EQ(choice.switches(), policy == MotionFallback::kAuto ? 1u : 0u);
+    EXPECT_EQ(choice.samples() > 0, policy == MotionFallback::kAuto);
+  }
+  // The wrong model's predictions are off by ½ a Δt² = 0.1 m a step; constant velocity's are not.
+  EXPECT_GT(late_prediction_error[MotionFallback::kOff], 0.05);
+  EXPECT_LT(late_prediction_error[MotionFallback::kAuto], 0.3 * late_prediction_error[MotionFallback::kOff]);
+  EXPECT_NEAR(late_prediction_error[MotionFallback::kAuto], late_prediction_error[MotionFallback::kAlways], 1e-3);
+  EXPECT_LE(late_error[MotionFallback::kAuto], late_error[MotionFallback::kOff]);
 }
 
 }  // namespace
