@@ -47,7 +47,7 @@ cp "$out"/figures/*.svg "$out"/figures/*.png docs/figures/
   (`wls`/`ours` 1.39–1.32 against 1.40, `ours-l`/`ours` 1.45–1.54 against 1.54), and on
   unsynchronised clocks it loses 17–19 % (`python3 scripts/async_bound.py --views 7 --period
   0.142857 --q 0.01 0.03 0.06 0.1`, seed 1: 1.13, 1.17, 1.19, 1.21). So about 1.18 is what the best
-  live estimate of such motion pays on `mpl`; `ours` pays 1.37, and the rest (about 15 %) is what a
+  live estimate of such motion pays on `mpl`; `ours` pays 1.36, and the rest (about 15 %) is what a
   better prediction within a frame could still win. Only a non-live answer (a smoother that waits for
   the rest of the frame) could come near the synchronous error.
 - **`ours-l`** is `ours`' own prediction of each row before the update at its time: the gap to
