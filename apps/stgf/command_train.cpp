@@ -29,6 +29,9 @@ void add_train_command(CLI::App& app) {
       ->delimiter(',')
       ->capture_default_str()
       ->check(CLI::PositiveNumber);
+  command->add_flag("--rotate", options->rotate,
+                    "turn each training scene by a random heading every epoch, so that the model does not learn the "
+                    "world frame's orientation");
   command->add_option("--epochs", t.epochs, "training epochs")->capture_default_str()->check(CLI::PositiveNumber);
   command->add_option("--lr", t.learning_rate, "Adam learning rate")->capture_default_str()->check(CLI::PositiveNumber);
   command->add_option("--batch", t.batch_graphs, "graphs per optimisation step")

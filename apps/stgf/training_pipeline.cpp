@@ -107,11 +107,11 @@ void show_progress(const TrainingProgress& p, bool terminal, double& last_shown)
 }
 
 // Q again, in the regime `ours` runs in: the filter over the validation split (filter_calibration.hpp).
-void calibrate_in_filter(const std::string& model_path, const Split& validation) {
+void calibrate_in_filter(const std::string& model_path, const Split& validation, bool any_heading) {
   const auto start = std::chrono::steady_clock::now();
   MotionModel model = MotionModel::load(model_path);
   const FilterCalibration calibration = calibrate_filter_process_noise(
-      model, validation.registration.prior, validation.measurements.rows, validation.truth_of_row);
+      model, validation.registration.prior, validation.measurements.rows, validation.truth_of_row, 5, any_heading);
   nlohmann::json rounds = nlohmann::json::array();
   for (const FilterCalibrationRound& round : calibration.rounds) {
     const Matrix3d& q = round.process_noise;
@@ -141,13 +141,19 @@ void train_model(ModelTraining options) {
   // docs/learning.md), observed for raw ones.
   const bool matched = options.history_noise == "matched" || (options.history_noise == "auto" && options.input == "fused");
   options.training.history = matched ? HistoryNoise::kTruthWithMatchedNoise : HistoryNoise::kObserved;
+  options.training.rotate = options.rotate;
   options.training.metadata = {{"input", options.input}, {"benchmark", options.benchmark}, {"strides", options.strides}};
+  if (options.rotate) options.training.metadata["rotate"] = true;
   if (options.strides.empty()) throw std::invalid_argument("--strides needs at least one stride");
   const int history = options.training.shape.history_length + 1;  // positions = intervals + 1
   const auto start = std::chrono::steady_clock::now();
   const std::vector<TrainingGraph> train_graphs =
       read_split(options.benchmark + "/train", source, history, options.strides).graphs;
-  const Split validation = read_split(options.benchmark + "/val", source, history);
+  Split validation = read_split(options.benchmark + "/val", source, history);
+  if (options.rotate) {  // a prior that does not depend on the world frame's heading either
+    Vector3d& sigma = validation.registration.prior.translation_sigma;
+    sigma.x() = sigma.y() = std::sqrt(0.5 * (sigma.x() * sigma.x() + sigma.y() * sigma.y()));
+  }
   const std::vector<TrainingGraph>& validation_graphs = validation.graphs;
   spdlog::info("{} training and {} validation graphs ({} histories) read in {:.1f} s", train_graphs.size(),
                validation_graphs.size(), options.input,
@@ -188,7 +194,7 @@ void train_model(ModelTraining options) {
                "diag({:.3g}, {:.3g}, {:.3g}) m²",
                report.best_epoch, report.best_validation_error, report.constant_velocity_validation_error,
                report.process_noise_period, q(0, 0), q(1, 1), q(2, 2));
-  if (source == HistorySource::kFused) calibrate_in_filter(working.path(), validation);
+  if (source == HistorySource::kFused) calibrate_in_filter(working.path(), validation, options.rotate);
   MotionModel::load(working.path());  // finite weights of the stated shape, or InputError
   working.move_to(options.out);
   spdlog::info("model written to {}", options.out);

@@ -31,6 +31,7 @@ struct ModelTraining {
   // Φ also learns from the training scenes seen at 1/stride of their frame rate, for each stride
   // here (1 = as recorded), so it predicts at lower frame rates too.
   std::vector<int> strides = {1, 2, 3};
+  bool rotate = false;  // turn each training graph by a random heading every epoch (MotionTrainingOptions::rotate)
   MotionTrainingOptions training;
 };
 

@@ -51,5 +51,15 @@ class Gaussian3 {
 
 // (M + Mᵀ)/2: removes the asymmetry that rounding leaves in a product of symmetric matrices.
 inline Matrix3d symmetrised(const Matrix3d& matrix) { return 0.5 * (matrix + matrix.transpose()); }
+// The average of T M Tᵀ over every turn T about the vertical axis: the horizontal block becomes
+// ½ (M_xx + M_yy) I, the horizontal–vertical terms 0, M_zz stays. A covariance that does not depend
+// on the world frame's heading.
+inline Matrix3d averaged_over_headings(const Matrix3d& matrix) {
+  const double horizontal = 0.5 * (matrix(0, 0) + matrix(1, 1));
+  Matrix3d averaged = Matrix3d::Zero();
+  averaged(0, 0) = averaged(1, 1) = horizontal;
+  averaged(2, 2) = matrix(2, 2);
+  return averaged;
+}
 
 }  // namespace stgf

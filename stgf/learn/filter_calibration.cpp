@@ -40,7 +40,7 @@ std::vector<Residual> filter_residuals(const MotionModel& model, const Registrat
 
 FilterCalibration calibrate_filter_process_noise(MotionModel& model, const RegistrationPrior& registration,
                                                  std::span<const Measurement> measurements,
-                                                 std::span<const Vector3d> truth, int rounds) {
+                                                 std::span<const Vector3d> truth, int rounds, bool any_heading) {
   if (rounds < 1) throw std::invalid_argument("calibrate_filter_process_noise: rounds must be at least 1");
   if (measurements.size() != truth.size()) {
     throw std::invalid_argument("calibrate_filter_process_noise: one truth position per measurement");
@@ -72,7 +72,8 @@ FilterCalibration calibrate_filter_process_noise(MotionModel& model, const Regis
     report.prior_error /= n;
     const Eigen::SelfAdjointEigenSolver<Matrix3d> eigen(symmetrised(moment / n));
     const Vector3d floored = eigen.eigenvalues().cwiseMax(kProcessNoiseFloor);
-    const Matrix3d measured = eigen.eigenvectors() * floored.asDiagonal() * eigen.eigenvectors().transpose();
+    Matrix3d measured = eigen.eigenvectors() * floored.asDiagonal() * eigen.eigenvectors().transpose();
+    if (any_heading) measured = averaged_over_headings(measured);
     // Damped: Q moves half way, since the residuals it is measured from respond to Q.
     const Matrix3d previous = round == 0 ? measured : model.process_noise(calibration.period);
     report.process_noise = symmetrised(0.5 * (previous + measured));

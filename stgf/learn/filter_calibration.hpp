@@ -37,9 +37,11 @@ struct FilterCalibration {
 };
 
 // Runs the filter `rounds` times over `measurements` (truth[k] the true position of row k) and leaves
-// the last round's Q in `model`. std::invalid_argument when no prediction has two positions behind it.
+// the last round's Q in `model`; with `any_heading`, Q averaged over the world frame's headings
+// (averaged_over_headings). std::invalid_argument when no prediction has two positions behind it.
 FilterCalibration calibrate_filter_process_noise(MotionModel& model, const RegistrationPrior& registration,
                                                  std::span<const Measurement> measurements,
-                                                 std::span<const Vector3d> truth, int rounds = 5);
+                                                 std::span<const Vector3d> truth, int rounds = 5,
+                                                 bool any_heading = false);
 
 }  // namespace stgf

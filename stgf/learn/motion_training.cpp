@@ -6,6 +6,7 @@
 #include <chrono>
 #include <cmath>
 #include <filesystem>
+#include <numbers>
 #include <numeric>
 #include <random>
 #include <stdexcept>
@@ -71,6 +72,19 @@ TrainingGraph with_matched_noise(const TrainingGraph& source, std::mt19937_64& r
     }
   }
   return noisy;
+}
+
+// `source` turned by `angle` (rad) about the vertical axis through the origin: positions, targets
+// and covariances (Φ reads differences of positions only, so the centre does not matter).
+TrainingGraph rotated(TrainingGraph source, double angle) {
+  const Matrix3d turn = Eigen::AngleAxisd(angle, Vector3d::UnitZ()).toRotationMatrix();
+  for (std::size_t i = 0; i < source.graph.objects.size(); ++i) {
+    for (Vector3d& position : source.graph.objects[i].positions) position = turn * position;
+    for (Vector3d& position : source.true_histories[i]) position = turn * position;
+    for (Matrix3d& covariance : source.history_covariances[i]) covariance = turn * covariance * turn.transpose();
+    source.targets[i] = turn * source.targets[i];
+  }
+  return source;
 }
 
 void check_graphs(const std::vector<TrainingGraph>& graphs, const char* name) {
@@ -212,9 +226,15 @@ TrainingReport train_motion_model(const std::vector<TrainingGraph>& train, const
       std::vector<const TrainingGraph*> chosen;
       const std::size_t begin = static_cast<std::size_t>(b) * static_cast<std::size_t>(options.batch_graphs);
       const std::size_t end = std::min(order.size(), begin + static_cast<std::size_t>(options.batch_graphs));
-      if (options.history == HistoryNoise::kTruthWithMatchedNoise) {
+      if (options.history == HistoryNoise::kTruthWithMatchedNoise || options.rotate) {
         noisy.reserve(end - begin);
-        for (std::size_t k = begin; k < end; ++k) noisy.push_back(with_matched_noise(train[order[k]], random));
+        std::uniform_real_distribution<double> heading(0.0, 2.0 * std::numbers::pi);
+        for (std::size_t k = begin; k < end; ++k) {
+          TrainingGraph graph = options.history == HistoryNoise::kTruthWithMatchedNoise
+                                    ? with_matched_noise(train[order[k]], random)
+                                    : train[order[k]];
+          noisy.push_back(options.rotate ? rotated(std::move(graph), heading(random)) : std::move(graph));
+        }
         for (const TrainingGraph& graph : noisy) chosen.push_back(&graph);
       } else {
         for (std::size_t k = begin; k < end; ++k) chosen.push_back(&train[order[k]]);
@@ -270,6 +290,7 @@ TrainingReport train_motion_model(const std::vector<TrainingGraph>& train, const
     if (epoch_report.validation_error < best_error) {
       best_error = epoch_report.validation_error;
       impl.process_noise_reference = calibrated_process_noise(residual_moment / n, mean_history_covariance);
+      if (options.rotate) impl.process_noise_reference = averaged_over_headings(impl.process_noise_reference);
       impl.process_noise_period = reference_period;
       nlohmann::json metadata = options.metadata;
       metadata["epoch"] = epoch;

@@ -35,6 +35,9 @@ struct MotionTrainingOptions {
   int threads = 1;
   std::string resume;          // model file to continue from (its optimizer state too), or empty
   HistoryNoise history = HistoryNoise::kObserved;
+  // Each training graph turned about the vertical axis by an angle drawn uniformly every epoch, so
+  // that Φ learns motion whatever the world frame's heading (the validation graphs stay as given).
+  bool rotate = false;
   MotionModelShape shape;
   nlohmann::json metadata = nlohmann::json::object();  // stored in the model file (e.g. the input kind)
 };

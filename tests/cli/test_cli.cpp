@@ -614,6 +614,28 @@ TEST_F(Cli, PortableTrainingGivesTheSameModelWhateverKernelsTheMachineWouldChoos
   EXPECT_THAT(model, HasSubstr("Prescott"));
 }
 
+// --rotate turns every training scene by a random heading each epoch; the model says so, and its Q and
+// registration prior do not depend on the world frame's heading (design §1.1).
+TEST_F(Cli, RotatedTrainingGivesAModelThatKnowsNoHeading) {
+  if (!kWithLibTorch) GTEST_SKIP() << "built without LibTorch (-DSTGF_WITH_LIBTORCH=OFF)";
+  ASSERT_EQ(stgf("dataset synthetic --out bench --seed 3 --scenes 2 --objects 3 --views 2 --steps 15").status, 0);
+  const Result trained = stgf("train --benchmark bench --out m.pt --epochs 2 --batch 8 --threads 1 --rotate");
+  ASSERT_EQ(trained.status, 0) << trained.err;
+  const std::string model = slurp(directory_ / "m.pt");
+  EXPECT_THAT(model, HasSubstr("\"rotate\":true"));
+  // "Q at Δt = … s: diag(a, a, c)": the last round's Q has equal x and y.
+  const std::size_t last = trained.err.rfind("diag(");
+  ASSERT_NE(last, std::string::npos);
+  const std::string diagonal = trained.err.substr(last + 5, trained.err.find(')', last) - last - 5);
+  const std::size_t comma = diagonal.find(',');
+  EXPECT_EQ(diagonal.substr(0, comma), diagonal.substr(comma + 2, diagonal.find(',', comma + 1) - comma - 2)) << diagonal;
+  const Result run = stgf("run --method ours --model m.pt --measurements bench/test/measurements.csv --out o.csv");
+  EXPECT_EQ(run.status, 0) << run.err;
+  const Result plain = stgf("train --benchmark bench --out p.pt --epochs 1 --batch 8 --threads 1");
+  ASSERT_EQ(plain.status, 0) << plain.err;
+  EXPECT_THAT(slurp(directory_ / "p.pt"), Not(HasSubstr("\"rotate\"")));
+}
+
 // Training never reports success without a new finite model, and never replaces the previous one
 // before it is done: it works in OUT.training and renames it at the end.
 TEST_F(Cli, TrainingThatDivergesWritesNothingAndKeepsThePreviousModel) {

@@ -3,6 +3,9 @@
 
 #include <cmath>
 #include <limits>
+#include <numbers>
+
+#include <Eigen/Geometry>
 
 #include <gtest/gtest.h>
 
@@ -70,6 +73,21 @@ TEST(Gaussian3, ConstructionValidates) {
   EXPECT_THROW(Gaussian3::from_covariance(Vector3d(std::nan(""), 0, 0), Matrix3d::Identity()),
                std::invalid_argument);
   EXPECT_THROW(Gaussian3::from_information(Vector3d::Zero(), Matrix3d::Zero()), std::invalid_argument);
+}
+
+// averaged_over_headings is the mean of T M Tᵀ over every turn T about the vertical axis.
+TEST(Gaussian, AveragedOverHeadingsIsTheMeanOverTurnsAboutTheVertical) {
+  Matrix3d m;
+  m << 0.5, 0.1, 0.05, 0.1, 0.2, -0.02, 0.05, -0.02, 0.3;
+  Matrix3d mean = Matrix3d::Zero();
+  const int turns = 360;
+  for (int k = 0; k < turns; ++k) {
+    const Matrix3d t = Eigen::AngleAxisd(2.0 * std::numbers::pi * k / turns, Vector3d::UnitZ()).toRotationMatrix();
+    mean += t * m * t.transpose() / turns;
+  }
+  EXPECT_LT((averaged_over_headings(m) - mean).norm(), 1e-12);
+  EXPECT_DOUBLE_EQ(averaged_over_headings(m)(0, 0), 0.35);
+  EXPECT_DOUBLE_EQ(averaged_over_headings(m)(2, 2), 0.3);
 }
 
 }  // namespace
