@@ -42,17 +42,9 @@ void log_method_report(const std::string& method, const MethodConfig& config, co
                  model_path);
   }
   if (report.restarted_tracks > report.gating.restarts) {
-    const double horizon = model->prediction_horizon();
-    if (config.ours.motion_fallback == MotionFallback::kOff) {
-      spdlog::info("{}: {} track(s) started again: the object had not been seen for longer than the model's horizon "
-                   "of {:.2f} s (twice the longest interval it trained on)",
-                   method, report.restarted_tracks - report.gating.restarts, horizon);
-    } else {
-      spdlog::info("{}: {} track(s) started again: the object had not been seen for longer than {:.2f} s ({} times the "
-                   "model's horizon of {:.2f} s, beyond which a track follows constant velocity)",
-                   method, report.restarted_tracks - report.gating.restarts, kConstantVelocityHorizonFactor * horizon,
-                   kConstantVelocityHorizonFactor, horizon);
-    }
+    spdlog::info("{}: {} track(s) started again: the object had not been seen for longer than the model's horizon "
+                 "of {:.2f} s (twice the longest interval it trained on)",
+                 method, report.restarted_tracks - report.gating.restarts, model->prediction_horizon());
   }
   log_gating(method, config.ours.gate, report.gating);
   const MotionChoiceSummary& choice = report.motion_choice;

@@ -49,7 +49,7 @@ class MotionPredictor {
   // (speed · τ)² I is added to the prediction's covariance for it.
   virtual double typical_speed() const = 0;
   // The longest interval (s) the predictor is trusted to predict across. An object that has not been
-  // seen for longer is predicted by constant velocity, or starts a new track (scene_filter.hpp): a learned model extrapolated far beyond the intervals it
+  // seen for longer starts a new track: a learned model extrapolated far beyond the intervals it
   // trained on is not a prediction (a pedestrian model asked for 4 s ahead can be off by tens of
   // metres while its Q, fitted at a fraction of a second, says centimetres).
   virtual double prediction_horizon() const = 0;

@@ -25,9 +25,7 @@ Vector3d ObjectTrack::displacement_to(double time, bool constant_velocity) const
 ObjectTrack::Motion ObjectTrack::motion_to(double time, const MotionPredictor& predictor,
                                            const ProcessNoiseScale& scale, bool constant_velocity) const {
   if (empty()) throw std::logic_error("ObjectTrack::motion_to needs a track that is not empty");
-  if (!constant_velocity && needs_forecast()) {
-    throw std::logic_error("ObjectTrack::motion_to needs the forecast of the track's history");
-  }
+  if (needs_forecast()) throw std::logic_error("ObjectTrack::motion_to needs the forecast of the track's history");
   const double state_time = state_->time;
   if (!(time > state_time)) throw std::logic_error("ObjectTrack::motion_to: time must follow the track's state");
   const double origin = forecast_origin();

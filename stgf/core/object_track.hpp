@@ -68,7 +68,7 @@ class ObjectTrack {
   void set_forecast(const MotionForecast& forecast) { forecast_ = forecast; }
 
   // The motion from the state to `time` (> state().time) as above: x − x̂_s and P − P̂_s, with the parts
-  // of TrackPrediction. A track with a history needs its forecast, unless with `constant_velocity`: f is
+  // of TrackPrediction. A track with a history needs its forecast. With `constant_velocity`, f is
   // instead the constant-velocity forecast of the same history, f(τ) = v τ with v from its last two
   // positions (zero with fewer), and Q the predictor's (motion_choice.hpp).
   struct Motion {

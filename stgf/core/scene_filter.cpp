@@ -240,7 +240,7 @@ void SceneFilter::start(Event& event) {
       continue;
     }
     ObjectTrack& track = state_.tracks[key_of(measurement)];
-    if (!track.empty() && event.time - track.state().time > restart_horizon()) {
+    if (!track.empty() && event.time - track.state().time > predictor_.prediction_horizon()) {
       track.clear();  // unseen for too long: starts again, like an object never seen
       ++state_.restarted_tracks;
     }
@@ -253,8 +253,7 @@ void SceneFilter::start(Event& event) {
 bool SceneFilter::request_forecasts(const Event& event) {
   std::vector<std::string> groups;  // track groups with a track that needs a forecast
   for (const TrackRows& rows : event.tracks) {
-    // A track predicted beyond the model's horizon follows constant velocity: it needs no forecast.
-    if (!rows.track->needs_forecast() || beyond_model_horizon(*rows.track, event.time)) continue;
+    if (!rows.track->needs_forecast()) continue;
     const std::string group = options_.tracks == TrackMode::kPerView ? event.rows[rows.first].measurement.view : std::string();
     if (std::find(groups.begin(), groups.end(), group) == groups.end()) groups.push_back(group);
   }
@@ -406,14 +405,13 @@ double SceneFilter::noise_scale(std::string_view view) const {
 
 bool SceneFilter::follows_constant_velocity() const { return state_.motion_choice.constant_velocity(); }
 
-double SceneFilter::restart_horizon() const {
-  const double horizon = predictor_.prediction_horizon();
-  return options_.motion_fallback == MotionFallback::kOff ? horizon : kConstantVelocityHorizonFactor * horizon;
+const ProcessNoiseScale& SceneFilter::followed_scale() const {
+  return follows_constant_velocity() ? state_.motion_choice.fallback_scale() : state_.process_noise_scale;
 }
 
 void SceneFilter::learn_motion(const Vector3d& innovation, const Matrix3d& known_covariance,
-                               const Matrix3d& process_noise, const Vector3d& displacement_difference,
-                               bool constant_velocity) {
+                               const Matrix3d& process_noise, const Vector3d& displacement_difference) {
+  const bool constant_velocity = follows_constant_velocity();
   const Vector3d other = innovation + displacement_difference;
   const Vector3d& learned = constant_velocity ? other : innovation;
   const Vector3d& fallback = constant_velocity ? innovation : other;
@@ -432,10 +430,8 @@ void SceneFilter::process_joint(Event& event) {
   // the others' positions): each object is predicted and its measurements checked; then each is
   // updated with those that passed; then each reports its fused position.
   const double time = event.time;
-  // The motion the tracks follow and the λ of each, as the earlier events left them.
-  const bool scene_constant_velocity = follows_constant_velocity();
-  const ProcessNoiseScale learned_scale = state_.process_noise_scale;
-  const ProcessNoiseScale fallback_scale = state_.motion_choice.fallback_scale();
+  const bool constant_velocity = follows_constant_velocity();  // as the earlier events decided
+  const ProcessNoiseScale scale = followed_scale();              // λ from the earlier events
   ViewNoiseScales& view_noise = state_.view_noise;
   struct Checked {
     std::size_t first, end;  // its rows
@@ -459,10 +455,8 @@ void SceneFilter::process_joint(Event& event) {
     std::optional<ObjectTrack::Motion> motion;
     std::vector<JointRegistration::Innovation> innovations;  // against the prediction, when gated by it
     std::vector<double> distances;
-    const bool beyond = !track.empty() && beyond_model_horizon(track, time);
-    const bool constant_velocity = scene_constant_velocity || beyond;
     if (!track.empty()) {
-      motion = track.motion_to(time, predictor_, constant_velocity ? fallback_scale : learned_scale, constant_velocity);
+      motion = track.motion_to(time, predictor_, scale, constant_velocity);
       const Gaussian3 state = state_.joint.position(object);
       state_.joint.predict(object, motion->displacement, motion->covariance);
       // The predicted position: p_i + d, Σ_ii + Q (what position() now gives, without recomputing it).
@@ -470,7 +464,7 @@ void SceneFilter::process_joint(Event& event) {
           Gaussian3::from_covariance(state.mean() + motion->displacement, state.covariance() + motion->covariance),
           state.covariance(), motion->process_noise, motion->interval, track.history().size()};
       // Innovations against the prediction: every row's for the gate, else the first row's to teach Q.
-      const bool teaches_process_noise = !track.has_frame() && !beyond && learns_motion();
+      const bool teaches_process_noise = !track.has_frame() && learns_motion();
       if (track.history().size() >= 2 && (gate_.enabled() || teaches_process_noise)) {
         for (const Row& row : rows) {
           innovations.push_back(state_.joint.innovation(row.measurement, noise_scale(row.measurement.view)));
@@ -498,12 +492,12 @@ void SceneFilter::process_joint(Event& event) {
     }
     // The first fused measurement of a frame teaches the scale of Q, with its innovation against the
     // prediction.
-    if (!track.empty() && !track.has_frame() && !beyond && track.history().size() >= 2 && learns_motion()) {
+    if (!track.empty() && !track.has_frame() && track.history().size() >= 2 && learns_motion()) {
       const auto passed = std::find(decision.passes.begin(), decision.passes.end(), true);
       if (passed != decision.passes.end()) {
         const JointRegistration::Innovation& innovation = innovations[static_cast<std::size_t>(passed - decision.passes.begin())];
         learn_motion(innovation.value, innovation.covariance - motion->covariance, motion->process_noise,
-                     motion->displacement - track.displacement_to(time, !constant_velocity), constant_velocity);
+                     motion->displacement - track.displacement_to(time, !constant_velocity));
       }
     }
     checked.push_back(Checked{first, end, &track, std::move(prediction), std::move(decision)});
@@ -581,21 +575,14 @@ void SceneFilter::process(Event& event) {
     return;
   }
   const double time = event.time;
-  // The motion the tracks follow and the λ of each, as the earlier events left them.
-  const bool scene_constant_velocity = follows_constant_velocity();
-  const ProcessNoiseScale learned_scale = state_.process_noise_scale;
-  const ProcessNoiseScale fallback_scale = state_.motion_choice.fallback_scale();
-  const auto predict = [&](const ObjectTrack& track) {
-    const bool constant_velocity = scene_constant_velocity || beyond_model_horizon(track, time);
-    return track.predict(time, predictor_, constant_velocity ? fallback_scale : learned_scale, constant_velocity);
-  };
+  const bool constant_velocity = follows_constant_velocity();  // as the earlier events decided
+  const ProcessNoiseScale scale = followed_scale();              // λ from the earlier events
   ViewNoiseScales& view_noise = state_.view_noise;
   struct Innovation {
     Vector3d value;
-    Matrix3d known_covariance;         // P̂_s + R
-    Matrix3d process_noise;            // Q(τ) − Q(τ_s)
+    Matrix3d known_covariance;        // P̂_s + R
+    Matrix3d process_noise;           // Q(τ) − Q(τ_s)
     Vector3d displacement_difference;  // d_followed − d_other
-    bool constant_velocity;            // followed
   };
   std::vector<Innovation> innovations;
   std::vector<const Measurement*> fused_rows;  // every measurement that passed the gate
@@ -637,7 +624,7 @@ void SceneFilter::process(Event& event) {
     }
     std::vector<double> distances;
     if (reference) {
-      reference_prediction = predict(*reference);
+      reference_prediction = reference->predict(time, predictor_, scale, constant_velocity);
       if (gate_.enabled() && reference->history().size() >= 2) {
         for (std::size_t k = first; k < end; ++k) {
           const Vector3d innovation = alone[k - first].mean() - reference_prediction->prior.mean();
@@ -688,7 +675,7 @@ void SceneFilter::process(Event& event) {
     for (std::size_t t = 0; t < track_count; ++t) {
       ObjectTrack& track = state_.tracks[key_of(event.rows[first + t].measurement)];
       std::optional<TrackPrediction> prediction;
-      if (!track.empty()) prediction = predict(track);
+      if (!track.empty()) prediction = track.predict(time, predictor_, scale, constant_velocity);
       if (!prediction && !combined) {
         // kPerView: this view's track is empty and every measurement failed the gate against another
         // view's track: nothing to start it from; the row gets that track's prediction.
@@ -703,12 +690,10 @@ void SceneFilter::process(Event& event) {
                                              : multi_view_update(prediction->prior, positions);
       const bool opens_frame = !track.has_frame();
       if (opens_frame && prediction && combined && prediction->history_positions >= 2 && learns_motion() &&
-          !innovation && !beyond_model_horizon(track, time)) {
-        const bool constant_velocity = scene_constant_velocity;
+          !innovation) {
         innovation = Innovation{combined->mean() - prediction->prior.mean(),
                                 prediction->state_covariance + combined->covariance(), prediction->process_noise,
-                                track.displacement_to(time, constant_velocity) - track.displacement_to(time, !constant_velocity),
-                                constant_velocity};
+                                track.displacement_to(time, constant_velocity) - track.displacement_to(time, !constant_velocity)};
       }
       if (opens_frame) track.open_frame(time);
       track.update(time, fused);
@@ -724,7 +709,7 @@ void SceneFilter::process(Event& event) {
   if (options_.tracks == TrackMode::kPerView && registration) state_.registration.learn(fused_rows);
   for (const Innovation& innovation : innovations) {
     learn_motion(innovation.value, innovation.known_covariance, innovation.process_noise,
-                 innovation.displacement_difference, innovation.constant_velocity);
+                 innovation.displacement_difference);
   }
 }
 

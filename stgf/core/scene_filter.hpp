@@ -20,9 +20,8 @@
 // that measures the object after the previous one closed, and closes once the frame window has passed
 // (kPerObject: the predictor's history_spacing(); kPerView: any later time). Processing the event at t:
 //   1. tracks of its objects not updated for longer than the predictor's horizon start again
-//      (counted) — with a motion fallback, only after kConstantVelocityHorizonFactor times that, and
-//      until then they are predicted by constant velocity; every open frame the window has passed
-//      closes: the track's state becomes a history position;
+//      (counted); every open frame the window has passed closes: the track's state becomes a history
+//      position;
 //   2. tracks about to be predicted need a forecast if their history changed since the last one: the
 //      filter stops and requests one graph per track group (the scene, or the view) holding every live
 //      track (history not empty, state within the horizon of t), and continues once provided;
@@ -124,11 +123,6 @@ inline constexpr double kRefilterNoiseScale = 4.0;
 
 // Event time between checkpoints (s).
 inline constexpr double kCheckpointSpacing = 0.1;
-
-// With a motion fallback (not MotionFallback::kOff), a track unseen for longer than the predictor's
-// horizon is predicted by constant velocity instead of starting again, up to this many times that
-// horizon (design §1.9).
-inline constexpr double kConstantVelocityHorizonFactor = 4.0;
 
 // A measurement that came later than the lag window allows, under LatePolicy::kStop.
 class LateMeasurementError : public std::runtime_error {
@@ -244,20 +238,15 @@ class SceneFilter {
   void report(Event& event, std::size_t first, std::size_t end, const Gaussian3& estimate,
               const std::optional<TrackPrediction>& prediction, const std::vector<bool>& gated);
   double noise_scale(std::string_view view) const;  // μ of the view; 1 without the gate
-  // Whether the scene's tracks follow constant velocity (motion_choice.hpp).
+  // Whether this event's tracks follow constant velocity, and the λ of the motion they follow.
   bool follows_constant_velocity() const;
-  // Whether `track` is predicted to `time` across more than the predictor's horizon (it then follows
-  // constant velocity, or has started again), and the gap after which a track starts again.
-  bool beyond_model_horizon(const ObjectTrack& track, double time) const {
-    return time - track.state().time > predictor_.prediction_horizon();
-  }
-  double restart_horizon() const;
+  const ProcessNoiseScale& followed_scale() const;
   // Whether step 4 takes samples at all.
   bool learns_motion() const { return options_.adapt_process_noise || state_.motion_choice.compares(); }
-  // Step 4 for one sample: the innovation ν of the motion followed (constant velocity or not), A = P̂_s + R,
-  // Q(τ) − Q(τ_s), and d_followed − d_other, the two motions' displacements (the other's innovation is ν + that).
+  // Step 4 for one sample: the innovation ν of the motion followed, A = P̂_s + R, Q(τ) − Q(τ_s), and
+  // d_followed − d_other, the two motions' displacements (the other's innovation is ν + that).
   void learn_motion(const Vector3d& innovation, const Matrix3d& known_covariance, const Matrix3d& process_noise,
-                    const Vector3d& displacement_difference, bool followed_constant_velocity);
+                    const Vector3d& displacement_difference);
   // A release of a view's offset that add() found (view_noise_scales.hpp): applied now, or scheduled
   // from when the shift began and the filter set to go back there.
   void schedule_release(const std::string& view, const ViewNoiseScales::Release& release, double time);

@@ -116,10 +116,8 @@ TEST(SpatiotemporalGraphFilter, TrackUnseenBeyondTheHorizonStartsAgain) {
   const ConstantVelocityPredictor predictor(0.1, 1.0, /*horizon=*/0.5);
   // Without the gate: this predictor's typical speed (1 m/s) is far below the object's (10 m/s), so
   // the gate would (rightly) restart the track for that before the horizon does.
-  // With the motion fallback off, as the paper's filter (with it, see the test below).
   FilterOptions options{RegistrationPrior{}, false};
   options.gate.enabled = false;
-  options.motion_fallback = MotionFallback::kOff;
   SpatiotemporalGraphFilter filter(predictor, options);
   const Matrix3d r = 0.01 * Matrix3d::Identity();
   for (int k = 0; k < 3; ++k) step(filter, 0.1 * k, {measurement(0.1 * k, "v", "o", Vector3d(k, 0, 0), r)});  // 10 m/s
@@ -135,31 +133,6 @@ TEST(SpatiotemporalGraphFilter, TrackUnseenBeyondTheHorizonStartsAgain) {
   step(filter, 1.3, {measurement(1.3, "v", "o", Vector3d(3, 1.1, 0), r)});
   ASSERT_TRUE(filter.last_predictions()[0].has_value());
   EXPECT_EQ(filter.last_predictions()[0]->history_positions, 1u);
-}
-
-// With a motion fallback, a track unseen for longer than the model's horizon follows constant velocity
-// (the model's forecast is not asked for) until four times that horizon, and starts again after.
-TEST(SpatiotemporalGraphFilter, TrackBeyondTheHorizonFollowsConstantVelocityThenStartsAgain) {
-  FilterOptions options;
-  options.gate.enabled = false;
-  const ConstantVelocityPredictor base(0.1, 1.0, /*horizon=*/0.5);
-  SpatiotemporalGraphFilter bounded(base, options);
-  const Matrix3d r = 0.01 * Matrix3d::Identity();
-  for (int k = 0; k < 3; ++k) step(bounded, 0.1 * k, {measurement(0.1 * k, "v", "o", Vector3d(k, 0, 0), r)});  // 10 m/s
-  // 0.6 s later (beyond 0.5 s): predicted by constant velocity along x, from the last two positions
-  // (fused: the first ones lag the truth, so the velocity is about 11 m/s), within its covariance.
-  step(bounded, 0.8, {measurement(0.8, "v", "o", Vector3d(8, 0, 0), r)});
-  EXPECT_EQ(bounded.restarted_tracks(), 0u);
-  ASSERT_TRUE(bounded.last_predictions()[0].has_value());
-  const Gaussian3& prior = bounded.last_predictions()[0]->prior;
-  const Vector3d error = prior.mean() - Vector3d(8, 0, 0);
-  EXPECT_LT(error.norm(), 1.0);
-  EXPECT_LT(error.dot(prior.covariance().ldlt().solve(error)), 9.35);  // inside its 95 % χ²(3) interval
-  // 2.1 s later (beyond 4 × 0.5 s): starts again from the measurement.
-  const auto beyond = step(bounded, 2.9, {measurement(2.9, "v", "o", Vector3d(3, 1, 0), r)});
-  EXPECT_EQ(bounded.restarted_tracks(), 1u);
-  EXPECT_FALSE(bounded.last_predictions()[0].has_value());
-  EXPECT_LT((beyond[0].mean() - Vector3d(3, 1, 0)).norm(), 1e-5);
 }
 
 // A world frame far from its origin (UTM coordinates) changes nothing: the estimates move with the
