@@ -384,5 +384,38 @@ TEST(SpatiotemporalGraphFilter, FollowsConstantVelocityWhereTheModelPredictsWors
   EXPECT_LE(late_error[MotionFallback::kAuto], late_error[MotionFallback::kOff]);
 }
 
+// The choice can switch part-way through an event's samples (one per object). The event's
+// predictions followed the motion chosen before it, and so must the labels of all its samples: up to
+// and including the event that switches, `auto` learns Φ's λ from exactly the innovations `off` does.
+TEST(SpatiotemporalGraphFilter, LabelsAnEventsSamplesByTheMotionItsPredictionsFollowed) {
+  const WrongAccelerationPredictor predictor;
+  const Matrix3d r = 0.01 * 0.01 * Matrix3d::Identity();
+  std::mt19937_64 random(11);
+  std::normal_distribution<double> noise(0.0, 0.01);
+  FilterOptions automatic;
+  automatic.motion_fallback = MotionFallback::kAuto;
+  FilterOptions off;
+  off.motion_fallback = MotionFallback::kOff;
+  SpatiotemporalGraphFilter chooses(predictor, automatic);
+  SpatiotemporalGraphFilter stays(predictor, off);
+  bool switched = false;
+  for (int k = 0; k < 60 && !switched; ++k) {
+    const double t = 0.1 * k;
+    std::vector<Measurement> rows;
+    for (int object = 0; object < 8; ++object) {
+      const Vector3d position(1.0 * t + object, 0.5 * t - 0.3 * object * t, 0.0);
+      for (const char* view : {"a", "b"}) {
+        rows.push_back(measurement(t, view, "o" + std::to_string(object),
+                                   position + Vector3d(noise(random), noise(random), noise(random)), r));
+      }
+    }
+    step(chooses, t, rows);
+    step(stays, t, rows);
+    switched = chooses.motion_choice().constant_velocity();
+    ASSERT_EQ(chooses.process_noise_scales(), stays.process_noise_scales()) << "step " << k;
+  }
+  ASSERT_TRUE(switched);
+}
+
 }  // namespace
 }  // namespace stgf
