@@ -173,16 +173,16 @@ cat >> "$out/generalization.md" <<'NOTES'
   at that rate (`stgf train --strides`) is what would help.
 - **Constant velocity where Φ does not fit** (design §1.13; compare `ours` with `ours-motion-off`).
   With the mpl model on ETH/UCY's eth scene, most scenes' innovations favour constant velocity and
-  `ours` follows it there: DE 0.1379 → 0.1179 m, NEES 30.7 → 14.1. It does not reach `wls` (0.1032):
+  `ours` follows it there: DE 0.1379 → 0.1174 m, NEES 30.7 → 13.1. It does not reach `wls` (0.1032):
   Φ predicts those scenes better than constant velocity in their first steps and worse later, so the
   evidence turns late, and what Φ's predictions did before stays in the tracks and the registration
   offsets (`motion_fallback: always` gives 0.1024 m there, but would cost 11 % on mpl itself).
   Leave-one-scene-out with the mpl model: `ours` is below `wls` on univ (0.0927 against 0.0966),
-  1 % above it on hotel and zara2 and 4.5 % above on zara1, and its NEES stays 11–16 on all four:
+  1 % above it on hotel and zara2 and 3.9 % above on zara1, and its NEES stays 11–15 on all four:
   Φ from mpl does not fit ETH/UCY's motion, and the per-scene choice only halves the harm. The
   general model of issue 11 (trained on all the data) is what is missing.
-- **cad at 2 frames/s** (5 s scenes, every fifth step of KITTI's 10 Hz): `ours` 0.3733 m against
-  `wls` 0.4868 and `mmt` 0.4845, NEES 3.03; the motion choice gains 2.5 % (constant velocity wins in
+- **cad at 2 frames/s** (5 s scenes, every fifth step of KITTI's 10 Hz): `ours` 0.3731 m against
+  `wls` 0.4868 and `mmt` 0.4845, NEES 3.03; the motion choice gains 2.6 % (constant velocity wins in
   nearly every scene). `ours-l` is poor there (0.96 m): at 0.5 s per frame a track's second frame
   is predicted with no velocity, and a one-frame gap (1 s) is beyond the cad model's 0.6 s horizon,
   so the track starts again. The cad benchmark's training scenes are 1 s long, too short to train at
