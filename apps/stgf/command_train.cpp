@@ -19,9 +19,17 @@ void add_train_command(CLI::App& app) {
                                                  "or fused (all views fused, for ours-l and ours)")
       ->capture_default_str()
       ->check(CLI::IsMember({"raw", "fused"}));
+  command->add_option("--supervision", options->supervision,
+                      "what Φ learns to predict: truth (truth.csv), measurements (the next fused measurement: for "
+                      "recordings without truth; the registration prior and Q are calibrated from the views' "
+                      "disagreements and innovations), or auto (truth when both splits have truth.csv, measurements "
+                      "when neither has)")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"auto", "truth", "measurements"}));
   command->add_option("--history-noise", options->history_noise,
                       "training histories: observed (as in the data), matched (truth + noise with each "
-                      "position's covariance, drawn every epoch), or auto (matched for fused, observed for raw)")
+                      "position's covariance, drawn every epoch), or auto (matched for fused with truth, observed "
+                      "otherwise)")
       ->capture_default_str()
       ->check(CLI::IsMember({"auto", "observed", "matched"}));
   command->add_option("--strides", options->strides,

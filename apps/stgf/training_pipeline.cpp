@@ -8,14 +8,18 @@
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
+#include <optional>
+#include <span>
 #include <stdexcept>
 
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
 
 #include "input_guard.hpp"
+#include "stgf/core/multi_view_update.hpp"
 #include "stgf/core/registration_calibration.hpp"
 #include "stgf/core/steps.hpp"
+#include "stgf/io/input_error.hpp"
 #include "stgf/io/measurement_file.hpp"
 #include "stgf/io/truth_file.hpp"
 #include "stgf/learn/filter_calibration.hpp"
@@ -51,30 +55,65 @@ class WorkingFile {
 
 struct Split {
   std::vector<TrainingGraph> graphs;
-  RegistrationCalibration registration;  // of the views' unstated offsets, from measurements against truth
+  RegistrationCalibration registration;  // of the views' unstated offsets
   MeasurementFile measurements;
-  std::vector<Vector3d> truth_of_row;
+  // Per row, where its object was: the truth, or (without truth) the fused measurement of the object
+  // at the row's time with its covariance.
+  std::vector<Vector3d> target_of_row;
+  std::vector<Matrix3d> target_covariance_of_row;  // empty for the truth
 };
 
 // `strides`: the graphs are made from the scenes at each of these fractions of the frame rate.
-Split read_split(const std::string& folder, HistorySource source, int history_length,
+// `with_truth`: targets and registration from truth.csv; else from the measurements alone.
+Split read_split(const std::string& folder, HistorySource source, int history_length, bool with_truth,
                  const std::vector<int>& strides = {1}) {
   MeasurementFile measurements = read_measurements(folder + "/measurements.csv");
-  const TruthFile truth = read_truth(folder + "/truth.csv");
-  check_truth_matches(measurements, truth);
-  const TruthIndex index(truth);
-  std::vector<Vector3d> truth_of_row;
-  truth_of_row.reserve(measurements.rows.size());
-  for (const Measurement& row : measurements.rows) truth_of_row.push_back(*index.find(row.scene, row.time, row.object));
-  std::vector<TrainingGraph> graphs;
-  for (const int stride : strides) {
-    const std::vector<TrainingGraph> strided =
-        stride == 1 ? make_training_graphs(measurements.rows, index, source, history_length)
-                    : make_training_graphs(every_nth_step(measurements.rows, stride), index, source, history_length);
-    graphs.insert(graphs.end(), strided.begin(), strided.end());
+  Split split;
+  std::optional<TruthIndex> index;
+  if (with_truth) {
+    const TruthFile truth = read_truth(folder + "/truth.csv");
+    check_truth_matches(measurements, truth);
+    index.emplace(truth);
+    split.target_of_row.reserve(measurements.rows.size());
+    for (const Measurement& row : measurements.rows) {
+      split.target_of_row.push_back(*index->find(row.scene, row.time, row.object));
+    }
+    split.registration = calibrate_registration_prior(measurements.rows, split.target_of_row);
+  } else {
+    for (const Gaussian3& fused : fused_measurement_of_rows(measurements.rows)) {
+      split.target_of_row.push_back(fused.mean());
+      split.target_covariance_of_row.push_back(fused.covariance());
+    }
+    split.registration = calibrate_registration_prior_from_disagreements(measurements.rows);
   }
-  RegistrationCalibration registration = calibrate_registration_prior(measurements.rows, truth_of_row);
-  return {std::move(graphs), registration, std::move(measurements), std::move(truth_of_row)};
+  for (const int stride : strides) {
+    const std::vector<Measurement> strided_rows =
+        stride == 1 ? std::vector<Measurement>() : every_nth_step(measurements.rows, stride);
+    const std::span<const Measurement> rows = stride == 1 ? std::span<const Measurement>(measurements.rows) : strided_rows;
+    const std::vector<TrainingGraph> graphs = with_truth ? make_training_graphs(rows, *index, source, history_length)
+                                                         : make_measured_training_graphs(rows, source, history_length);
+    split.graphs.insert(split.graphs.end(), graphs.begin(), graphs.end());
+  }
+  split.measurements = std::move(measurements);
+  return split;
+}
+
+// Whether to train against the truth: --supervision truth or measurements, or auto: truth when both
+// splits have a truth.csv, the measurements when neither has.
+bool trains_with_truth(const ModelTraining& options) {
+  const std::string train_truth = options.benchmark + "/train/truth.csv";
+  const std::string val_truth = options.benchmark + "/val/truth.csv";
+  if (options.supervision == "truth") return true;
+  if (options.supervision == "measurements") return false;
+  const bool train = std::filesystem::exists(train_truth);
+  const bool val = std::filesystem::exists(val_truth);
+  if (train != val) {
+    throw InputError(train ? val_truth : train_truth, 0,
+                     fmt::format("missing, while {} exists: give both splits their truth, or neither to train from the "
+                                 "measurements alone (or choose with --supervision truth|measurements)",
+                                 train ? train_truth : val_truth));
+  }
+  return train;
 }
 
 std::string duration(double seconds) {
@@ -110,8 +149,9 @@ void show_progress(const TrainingProgress& p, bool terminal, double& last_shown)
 void calibrate_in_filter(const std::string& model_path, const Split& validation, bool any_heading) {
   const auto start = std::chrono::steady_clock::now();
   MotionModel model = MotionModel::load(model_path);
-  const FilterCalibration calibration = calibrate_filter_process_noise(
-      model, validation.registration.prior, validation.measurements.rows, validation.truth_of_row, 5, any_heading);
+  const FilterCalibration calibration =
+      calibrate_filter_process_noise(model, validation.registration.prior, validation.measurements.rows,
+                                     validation.target_of_row, validation.target_covariance_of_row, 5, any_heading);
   nlohmann::json rounds = nlohmann::json::array();
   for (const FilterCalibrationRound& round : calibration.rounds) {
     const Matrix3d& q = round.process_noise;
@@ -137,34 +177,52 @@ void train_model(ModelTraining options) {
   }
   refuse_output_over_input("--out", options.out, inputs);
   const HistorySource source = options.input == "raw" ? HistorySource::kRawView : HistorySource::kFused;
-  // auto: matched for fused histories (better on the validation splits of mpl and cad, see
-  // docs/learning.md), observed for raw ones.
-  const bool matched = options.history_noise == "matched" || (options.history_noise == "auto" && options.input == "fused");
+  const bool with_truth = trains_with_truth(options);
+  if (!with_truth && options.history_noise == "matched") {
+    throw std::invalid_argument("--history-noise matched draws histories around the truth: without truth, train on "
+                                "the histories as observed (--history-noise observed or auto)");
+  }
+  // auto: matched for fused histories when the truth is known (better on the validation splits of mpl
+  // and cad, see docs/learning.md), observed for raw ones and without truth.
+  const bool matched = options.history_noise == "matched" ||
+                       (options.history_noise == "auto" && options.input == "fused" && with_truth);
   options.training.history = matched ? HistoryNoise::kTruthWithMatchedNoise : HistoryNoise::kObserved;
   options.training.rotate = options.rotate;
-  options.training.metadata = {{"input", options.input}, {"benchmark", options.benchmark}, {"strides", options.strides}};
+  options.training.metadata = {{"input", options.input},
+                               {"benchmark", options.benchmark},
+                               {"strides", options.strides},
+                               {"supervision", with_truth ? "truth" : "measurements"}};
   if (options.rotate) options.training.metadata["rotate"] = true;
   if (options.strides.empty()) throw std::invalid_argument("--strides needs at least one stride");
   const int history = options.training.shape.history_length + 1;  // positions = intervals + 1
   const auto start = std::chrono::steady_clock::now();
   const std::vector<TrainingGraph> train_graphs =
-      read_split(options.benchmark + "/train", source, history, options.strides).graphs;
-  Split validation = read_split(options.benchmark + "/val", source, history);
+      read_split(options.benchmark + "/train", source, history, with_truth, options.strides).graphs;
+  Split validation = read_split(options.benchmark + "/val", source, history, with_truth);
   if (options.rotate) {  // a prior that does not depend on the world frame's heading either
     Vector3d& sigma = validation.registration.prior.translation_sigma;
     sigma.x() = sigma.y() = std::sqrt(0.5 * (sigma.x() * sigma.x() + sigma.y() * sigma.y()));
   }
   const std::vector<TrainingGraph>& validation_graphs = validation.graphs;
-  spdlog::info("{} training and {} validation graphs ({} histories) read in {:.1f} s", train_graphs.size(),
-               validation_graphs.size(), options.input,
+  spdlog::info("{} training and {} validation graphs ({} histories, targets: {}) read in {:.1f} s",
+               train_graphs.size(), validation_graphs.size(), options.input,
+               with_truth ? "the truth" : "the fused measurements (no truth)",
                std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
   const RegistrationPrior& registration = validation.registration.prior;
-  spdlog::info("registration error on the validation split ({} scene-views): translation sigma ({:.3g}, {:.3g}, "
+  spdlog::info("registration error on the validation split ({} {}): translation sigma ({:.3g}, {:.3g}, "
                "{:.3g}) m, noise ratio {:.3g}",
-               validation.registration.groups, registration.translation_sigma.x(),
+               validation.registration.groups,
+               with_truth ? "scene-views against the truth" : "scenes where views disagree",
+               registration.translation_sigma.x(),
                registration.translation_sigma.y(), registration.translation_sigma.z(), registration.noise_ratio);
   options.training.metadata["registration"] = registration_prior_to_json(registration);
   options.training.metadata["registration"]["calibrated_on"] = options.benchmark + "/val";
+  options.training.metadata["registration"]["from"] = with_truth ? "truth" : "disagreements";
+  if (!with_truth && validation.registration.groups == 0) {
+    spdlog::warn("no two views measure an object at the same time in {}/val: the registration prior stays zero "
+                 "(no offsets assumed); views on their own clocks show their offsets only against the truth",
+                 options.benchmark);
+  }
   const bool terminal = ::isatty(::fileno(stderr)) != 0;
   double last_shown = -1.0;
   // The model is trained in a working file beside --out and moved into place only once it is
@@ -190,9 +248,10 @@ void train_model(ModelTraining options) {
     throw std::runtime_error("no epoch gave a finite validation error: nothing written, " + options.out + " unchanged");
   }
   const Matrix3d& q = report.process_noise;
-  spdlog::info("best epoch {}: validation error {:.4f} m (constant velocity: {:.4f} m); Q at Δt = {:.3f} s: "
+  spdlog::info("best epoch {}: validation error {:.4f} m (constant velocity: {:.4f} m{}); Q at Δt = {:.3f} s: "
                "diag({:.3g}, {:.3g}, {:.3g}) m²",
                report.best_epoch, report.best_validation_error, report.constant_velocity_validation_error,
+               with_truth ? "" : ", both against the fused measurements, whose own noise they include",
                report.process_noise_period, q(0, 0), q(1, 1), q(2, 2));
   if (source == HistorySource::kFused) calibrate_in_filter(working.path(), validation, options.rotate);
   MotionModel::load(working.path());  // finite weights of the stated shape, or InputError

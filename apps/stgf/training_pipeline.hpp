@@ -1,13 +1,15 @@
 // SPDX-License-Identifier: Apache-2.0
 #pragma once
 // Training a model for the learned methods (stgf train, stgf reproduce):
-//   1. read the benchmark's train/ and val/ splits (measurements and truth);
-//   2. calibrate the views' registration prior on val (core/registration_calibration.hpp), stored in
-//      the model for `ours`;
+//   1. read the benchmark's train/ and val/ splits (measurements, and truth if given: --supervision);
+//   2. calibrate the views' registration prior on val (core/registration_calibration.hpp: against the
+//      truth, or without it from the views' disagreements), stored in the model for `ours`;
 //   3. train Φ (learn/motion_training.hpp) on the train split at each of `strides` (every step, every
 //      2nd, every 3rd: lower frame rates), keeping the best epoch on val as recorded, Q calibrated
 //      on Φ's residuals there;
 //   4. fused input: calibrate Q again inside the filter on val (learn/filter_calibration.hpp).
+// Without truth, every target is what was measured: the fused position of all views' measurements of
+// the object at the target time (make_measured_training_graphs), and the histories are as observed.
 // Progress goes to the log (and a live line on a terminal).
 //
 // The model is trained in OUT.training and renamed to OUT once finished and checked (finite weights of
@@ -27,7 +29,9 @@ struct ModelTraining {
   std::string benchmark;               // folder with train/ and val/
   std::string out;                     // model file to write
   std::string input = "fused";         // raw (sttp) | fused (ours-l, ours)
-  std::string history_noise = "auto";  // observed | matched | auto (matched for fused)
+  std::string history_noise = "auto";  // observed | matched | auto (matched for fused, with truth)
+  // truth | measurements | auto (truth when train/ and val/ have truth.csv, measurements when neither has)
+  std::string supervision = "auto";
   // Φ also learns from the training scenes seen at 1/stride of their frame rate, for each stride
   // here (1 = as recorded), so it predicts at lower frame rates too.
   std::vector<int> strides = {1, 2, 3};

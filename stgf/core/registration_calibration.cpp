@@ -9,33 +9,38 @@
 #include <utility>
 #include <vector>
 
+#include "stgf/core/steps.hpp"
+
 namespace stgf {
 namespace {
 
-using Matrix6d = Eigen::Matrix<double, 6, 6>;
-using Vector6d = Eigen::Matrix<double, 6, 1>;
 using Parameters = std::array<double, 4>;  // log10 of σ_x, σ_y, σ_z, α
+constexpr int kOffsetSize = 6;
 
+// A group's evidence on the offsets β of its views (6 coordinates per view): information A, vector b.
 struct GroupStatistics {
-  Matrix6d a = Matrix6d::Zero();
-  Vector6d b = Vector6d::Zero();
+  Eigen::MatrixXd a;
+  Eigen::VectorXd b;
+  explicit GroupStatistics(Eigen::Index views = 1)
+      : a(Eigen::MatrixXd::Zero(kOffsetSize * views, kOffsetSize * views)), b(Eigen::VectorXd::Zero(kOffsetSize * views)) {}
 };
 
 constexpr double kLowest = -4.0;                            // log10 of the smallest σ or α
 constexpr std::array<double, 4> kHighest = {1.5, 1.5, 1.5, 2.0};
 
 double log_likelihood(const std::vector<GroupStatistics>& groups, const Parameters& parameters) {
-  Vector6d prior_information;
+  Eigen::Matrix<double, kOffsetSize, 1> prior_information;
   for (int axis = 0; axis < 3; ++axis) prior_information[axis] = std::pow(10.0, -2.0 * parameters[axis]);
   prior_information.tail<3>().setConstant(std::pow(10.0, -2.0 * parameters[3]));
   const double log_det_prior = prior_information.array().log().sum();
   double total = 0.0;
   for (const GroupStatistics& group : groups) {
-    Matrix6d posterior_information = group.a;
-    posterior_information.diagonal() += prior_information;
-    const Eigen::LLT<Matrix6d> factor(posterior_information);
-    const double log_det = 2.0 * factor.matrixL().toDenseMatrix().diagonal().array().log().sum();
-    total -= 0.5 * (-group.b.dot(factor.solve(group.b)) + log_det - log_det_prior);
+    const Eigen::Index views = group.b.size() / kOffsetSize;
+    Eigen::MatrixXd posterior_information = group.a;
+    posterior_information.diagonal() += prior_information.replicate(views, 1);
+    const Eigen::LLT<Eigen::MatrixXd> factor(posterior_information);
+    const double log_det = 2.0 * factor.matrixLLT().diagonal().array().log().sum();
+    total -= 0.5 * (-group.b.dot(factor.solve(group.b)) + log_det - static_cast<double>(views) * log_det_prior);
   }
   return total;
 }
@@ -56,28 +61,16 @@ double best_on_grid(const std::vector<GroupStatistics>& groups, Parameters param
   return best_value;
 }
 
-}  // namespace
+// H = [I₃ L], L the lower Cholesky factor of R.
+Eigen::Matrix<double, 3, kOffsetSize> jacobian_of(const Measurement& measurement) {
+  Eigen::Matrix<double, 3, kOffsetSize> jacobian;
+  jacobian.leftCols<3>().setIdentity();
+  jacobian.rightCols<3>() = measurement.position.covariance().llt().matrixL();
+  return jacobian;
+}
 
-RegistrationCalibration calibrate_registration_prior(std::span<const Measurement> measurements,
-                                                     std::span<const Vector3d> truth) {
-  if (measurements.size() != truth.size()) {
-    throw std::invalid_argument("calibrate_registration_prior: one truth position per measurement");
-  }
-  std::map<std::pair<std::string, std::string>, GroupStatistics> by_group;
-  for (std::size_t k = 0; k < measurements.size(); ++k) {
-    const Measurement& measurement = measurements[k];
-    Eigen::Matrix<double, 3, 6> jacobian;
-    jacobian.leftCols<3>().setIdentity();
-    jacobian.rightCols<3>() = measurement.position.covariance().llt().matrixL();
-    const Eigen::Matrix<double, 6, 3> weighted = jacobian.transpose() * measurement.position.information();
-    GroupStatistics& group = by_group[{measurement.scene, measurement.view}];
-    group.a.noalias() += weighted * jacobian;
-    group.b.noalias() += weighted * (measurement.position.mean() - truth[k]);
-  }
-  std::vector<GroupStatistics> groups;
-  groups.reserve(by_group.size());
-  for (auto& entry : by_group) groups.push_back(std::move(entry.second));
-
+// The four parameters that maximise the groups' marginal likelihood.
+RegistrationCalibration maximise_likelihood(const std::vector<GroupStatistics>& groups) {
   RegistrationCalibration result;
   result.groups = groups.size();
   if (groups.empty()) return result;
@@ -99,6 +92,85 @@ RegistrationCalibration calibrate_registration_prior(std::span<const Measurement
   result.prior.noise_ratio = sigma(parameters[3]);
   result.log_likelihood_gain = (log_likelihood(groups, parameters) - none) / static_cast<double>(groups.size());
   return result;
+}
+
+}  // namespace
+
+RegistrationCalibration calibrate_registration_prior(std::span<const Measurement> measurements,
+                                                     std::span<const Vector3d> truth) {
+  if (measurements.size() != truth.size()) {
+    throw std::invalid_argument("calibrate_registration_prior: one truth position per measurement");
+  }
+  std::map<std::pair<std::string, std::string>, GroupStatistics> by_group;
+  for (std::size_t k = 0; k < measurements.size(); ++k) {
+    const Measurement& measurement = measurements[k];
+    const Eigen::Matrix<double, 3, kOffsetSize> jacobian = jacobian_of(measurement);
+    const Eigen::Matrix<double, kOffsetSize, 3> weighted = jacobian.transpose() * measurement.position.information();
+    GroupStatistics& group = by_group.try_emplace({measurement.scene, measurement.view}).first->second;
+    group.a.noalias() += weighted * jacobian;
+    group.b.noalias() += weighted * (measurement.position.mean() - truth[k]);
+  }
+  std::vector<GroupStatistics> groups;
+  groups.reserve(by_group.size());
+  for (auto& entry : by_group) groups.push_back(std::move(entry.second));
+  return maximise_likelihood(groups);
+}
+
+RegistrationCalibration calibrate_registration_prior_from_disagreements(std::span<const Measurement> measurements) {
+  std::vector<GroupStatistics> groups;
+  for (const Scene& scene : group_into_scenes(measurements)) {
+    // The scene's views, in order of first appearance: view u's offset is β[6u, 6u + 6).
+    std::map<std::string, Eigen::Index> view_index;
+    for (const Step& step : scene.steps) {
+      for (const std::size_t row : step.rows) {
+        view_index.try_emplace(measurements[row].view, static_cast<Eigen::Index>(view_index.size()));
+      }
+    }
+    GroupStatistics group(static_cast<Eigen::Index>(view_index.size()));
+    bool disagreed = false;
+    for (const Step& step : scene.steps) {
+      // The step's rows by object (list order within each object).
+      std::map<std::string_view, std::vector<std::size_t>> rows_of_object;
+      for (const std::size_t row : step.rows) rows_of_object[measurements[row].object].push_back(row);
+      for (const auto& [object, rows] : rows_of_object) {
+        if (rows.size() < 2) continue;
+        disagreed = true;
+        // With p marginalised under a flat prior (registration_prior_scale.hpp):
+        //   A_j = Σ_k H_kᵀ W_k H_k − Fᵀ S⁻¹ F,   b_j = Σ_k H_kᵀ W_k z_k − Fᵀ S⁻¹ y,
+        //   S = Σ_k W_k,  F = Σ_k W_k G_k (G_k = H_k in view u_k's columns),  y = Σ_k W_k z_k.
+        const std::size_t k = rows.size();
+        std::vector<Eigen::Matrix<double, 3, kOffsetSize>> weighted_jacobian(k);  // W_k H_k
+        std::vector<Eigen::Index> column(k);
+        Matrix3d information_sum = Matrix3d::Zero();
+        Vector3d weighted_sum = Vector3d::Zero();
+        for (std::size_t j = 0; j < k; ++j) {
+          const Measurement& measurement = measurements[rows[j]];
+          const Matrix3d& information = measurement.position.information();
+          const Eigen::Matrix<double, 3, kOffsetSize> jacobian = jacobian_of(measurement);
+          weighted_jacobian[j] = information * jacobian;
+          column[j] = kOffsetSize * view_index.at(measurement.view);
+          information_sum += information;
+          weighted_sum += information * measurement.position.mean();
+          group.a.block<kOffsetSize, kOffsetSize>(column[j], column[j]).noalias() +=
+              jacobian.transpose() * weighted_jacobian[j];
+          group.b.segment<kOffsetSize>(column[j]).noalias() +=
+              weighted_jacobian[j].transpose() * measurement.position.mean();
+        }
+        const Eigen::LLT<Matrix3d> total(information_sum);
+        const Vector3d mean = total.solve(weighted_sum);  // S⁻¹ y
+        for (std::size_t i = 0; i < k; ++i) {
+          const Eigen::Matrix<double, 3, kOffsetSize> spread = total.solve(weighted_jacobian[i]);  // S⁻¹ W_i H_i
+          group.b.segment<kOffsetSize>(column[i]).noalias() -= weighted_jacobian[i].transpose() * mean;
+          for (std::size_t j = 0; j < k; ++j) {
+            group.a.block<kOffsetSize, kOffsetSize>(column[j], column[i]).noalias() -=
+                weighted_jacobian[j].transpose() * spread;
+          }
+        }
+      }
+    }
+    if (disagreed) groups.push_back(std::move(group));
+  }
+  return maximise_likelihood(groups);
 }
 
 }  // namespace stgf

@@ -21,12 +21,23 @@ namespace stgf {
 
 struct RegistrationCalibration {
   RegistrationPrior prior;
-  std::size_t groups = 0;           // (scene, view) groups used
+  std::size_t groups = 0;           // (scene, view) groups used; scenes, from disagreements
   double log_likelihood_gain = 0;   // over the zero prior (no registration error), nats per group
 };
 
 // `truth[k]` is the true position of the object of `measurements[k]`.
 RegistrationCalibration calibrate_registration_prior(std::span<const Measurement> measurements,
                                                      std::span<const Vector3d> truth);
+
+// Without truth: from what the views disagree on. At every time where k ≥ 2 views measure an object,
+// its position p is marginalised under a flat prior (as registration_prior_scale.hpp does online),
+// which leaves a linear measurement of the offsets of those views with information A_j and vector b_j;
+// a group is a scene, with β the offsets of all its views (6 per view) and A, b the sums over its
+// times. The same marginal likelihood is maximised over the same grid. What no disagreement shows —
+// the offset common to all of a scene's views — drops out of A, so the prior is fitted to the
+// relative offsets, under the same assumption as above: every view's offset is drawn from it
+// independently. Scenes where no two views ever measure an object at one time (views on their own
+// clocks) carry no evidence: groups counts the scenes that do.
+RegistrationCalibration calibrate_registration_prior_from_disagreements(std::span<const Measurement> measurements);
 
 }  // namespace stgf

@@ -9,11 +9,16 @@
 // against 0.06 m on the validation histories, with NEES of the prior 7.5 instead of 3. So Q is
 // calibrated again by running the filter itself on the validation split:
 //     r = y − x                          (truth minus Φ's prediction, before the update)
-//     Q_ref = E[(Δt_ref / Δt)² (r rᵀ − P̂_last)]     (eigenvalues floored at 1e-6 m²)
+//     Q_ref = E[(Δt_ref / Δt)² (r rᵀ − P̂_last − P_y)]     (eigenvalues floored at 1e-6 m²)
 // over the predictions from tracks of at least two positions, Δt_ref their median interval. A new Q
 // changes how much the filter trusts Φ and so the histories Φ reads, and a full step can overshoot
 // (on mpl the vertical part swung between 2e-4 and 3e-6 m²): after the first round, each round moves
 // Q half way to what it measured, Q ← (Q + Q_measured) / 2, a fixed number of rounds.
+//
+// Without truth, y is what was measured at the row's time — the fused position of all views'
+// measurements of the object then, with covariance P_y (0 for the truth). Its noise is in r and P_y
+// takes it out again; the part of it the registration prior describes (offsets shared with the
+// track's own history) largely cancels in r, since the track was built from the same views.
 
 #include <span>
 #include <vector>
@@ -36,12 +41,14 @@ struct FilterCalibration {
   std::size_t predictions = 0;   // per round
 };
 
-// Runs the filter `rounds` times over `measurements` (truth[k] the true position of row k) and leaves
+// Runs the filter `rounds` times over `measurements` (targets[k] the true position of row k, or the
+// measured one with covariance target_covariances[k]; empty covariances: the truth) and leaves
 // the last round's Q in `model`; with `any_heading`, Q averaged over the world frame's headings
 // (averaged_over_headings). std::invalid_argument when no prediction has two positions behind it.
 FilterCalibration calibrate_filter_process_noise(MotionModel& model, const RegistrationPrior& registration,
                                                  std::span<const Measurement> measurements,
-                                                 std::span<const Vector3d> truth, int rounds = 5,
+                                                 std::span<const Vector3d> targets,
+                                                 std::span<const Matrix3d> target_covariances = {}, int rounds = 5,
                                                  bool any_heading = false);
 
 }  // namespace stgf

@@ -60,6 +60,10 @@ std::vector<MotionGraph> graphs_of(const std::vector<const TrainingGraph*>& grap
 
 // The graph with its history replaced by truth + N(0, P_k) for each history point.
 TrainingGraph with_matched_noise(const TrainingGraph& source, std::mt19937_64& random) {
+  if (source.true_histories.size() != source.targets.size()) {
+    throw std::invalid_argument("training histories of truth with matched noise need the truth: train on the "
+                                "histories as observed without it");
+  }
   std::normal_distribution<double> normal;
   TrainingGraph noisy = source;
   for (std::size_t i = 0; i < noisy.graph.objects.size(); ++i) {
@@ -80,9 +84,14 @@ TrainingGraph rotated(TrainingGraph source, double angle) {
   const Matrix3d turn = Eigen::AngleAxisd(angle, Vector3d::UnitZ()).toRotationMatrix();
   for (std::size_t i = 0; i < source.graph.objects.size(); ++i) {
     for (Vector3d& position : source.graph.objects[i].positions) position = turn * position;
-    for (Vector3d& position : source.true_histories[i]) position = turn * position;
+    if (i < source.true_histories.size()) {
+      for (Vector3d& position : source.true_histories[i]) position = turn * position;
+    }
     for (Matrix3d& covariance : source.history_covariances[i]) covariance = turn * covariance * turn.transpose();
     source.targets[i] = turn * source.targets[i];
+    if (i < source.target_covariances.size()) {
+      source.target_covariances[i] = turn * source.target_covariances[i] * turn.transpose();
+    }
   }
   return source;
 }
@@ -90,8 +99,11 @@ TrainingGraph rotated(TrainingGraph source, double angle) {
 void check_graphs(const std::vector<TrainingGraph>& graphs, const char* name) {
   std::size_t objects = 0;
   for (const TrainingGraph& graph : graphs) {
-    if (graph.targets.size() != graph.graph.objects.size() || graph.true_histories.size() != graph.targets.size() ||
-        graph.history_covariances.size() != graph.targets.size()) {
+    const auto matches = [&](std::size_t size, bool may_be_empty) {
+      return size == graph.targets.size() || (may_be_empty && size == 0);
+    };
+    if (graph.targets.size() != graph.graph.objects.size() || !matches(graph.true_histories.size(), true) ||
+        !matches(graph.target_covariances.size(), true) || !matches(graph.history_covariances.size(), false)) {
       throw std::invalid_argument(std::string(name) + " graphs: targets and histories do not match the objects");
     }
     objects += graph.targets.size();
@@ -105,9 +117,10 @@ std::size_t count_objects(const std::vector<TrainingGraph>& graphs) {
   return objects;
 }
 
-// Q_ref = E[r rᵀ] − E[P_last], eigenvalues floored.
-Matrix3d calibrated_process_noise(const Matrix3d& residual_moment, const Matrix3d& mean_history_covariance) {
-  const Matrix3d difference = symmetrised(residual_moment - mean_history_covariance);
+// Q_ref = E[r rᵀ] − E[P_last] − E[P_target], eigenvalues floored. A measured target's own noise is in
+// r (independent of the prediction's error), and E[P_target] takes it out again; the truth has none.
+Matrix3d calibrated_process_noise(const Matrix3d& residual_moment, const Matrix3d& mean_known_covariance) {
+  const Matrix3d difference = symmetrised(residual_moment - mean_known_covariance);
   Eigen::SelfAdjointEigenSolver<Matrix3d> eigen(difference);
   const Vector3d floored = eigen.eigenvalues().cwiseMax(kProcessNoiseFloor);
   return symmetrised(eigen.eigenvectors() * floored.asDiagonal() * eigen.eigenvectors().transpose());
@@ -192,22 +205,69 @@ TrainingReport train_motion_model(const std::vector<TrainingGraph>& train, const
   report.validation_objects = count_objects(validation);
   report.constant_velocity_validation_error = constant_velocity_error(validation);
 
-  // Validation batches are fixed; so is E[P_last] and the reference period for Q.
+  // Validation batches are fixed; so are E[P_last] + E[P_target] and the reference period for Q.
   std::vector<std::vector<const TrainingGraph*>> validation_batches;
-  Matrix3d mean_history_covariance = Matrix3d::Zero();
+  Matrix3d mean_known_covariance = Matrix3d::Zero();
   std::vector<double> horizons;
   for (std::size_t g = 0; g < validation.size(); ++g) {
     if (g % kValidationBatchGraphs == 0) validation_batches.emplace_back();
     validation_batches.back().push_back(&validation[g]);
     const TrainingGraph& graph = validation[g];
     for (std::size_t i = 0; i < graph.targets.size(); ++i) {
-      mean_history_covariance += graph.history_covariances[i].back();
+      mean_known_covariance += graph.history_covariances[i].back();
+      if (!graph.target_covariances.empty()) mean_known_covariance += graph.target_covariances[i];
       horizons.push_back(graph.graph.target_time - graph.graph.objects[i].times.back());
     }
   }
-  mean_history_covariance /= static_cast<double>(report.validation_objects);
+  mean_known_covariance /= static_cast<double>(report.validation_objects);
   std::nth_element(horizons.begin(), horizons.begin() + static_cast<std::ptrdiff_t>(horizons.size() / 2), horizons.end());
   const double reference_period = horizons[horizons.size() / 2];
+
+  // Validation: the mean Euclidean error, Q_ref calibrated from the residuals' second moment, and the
+  // mean negative log-likelihood of the targets under N(x̂, P_last + P_target + Q_ref).
+  struct Validation {
+    double error = 0.0;
+    double nll = 0.0;
+    Matrix3d process_noise = Matrix3d::Zero();
+  };
+  const auto validate = [&] {
+    torch::NoGradGuard no_grad;
+    impl.network->eval();
+    Validation result;
+    Matrix3d residual_moment = Matrix3d::Zero();
+    std::vector<Vector3d> residuals;
+    std::vector<Matrix3d> known;
+    residuals.reserve(report.validation_objects);
+    known.reserve(report.validation_objects);
+    for (const auto& chosen : validation_batches) {
+      const std::vector<MotionGraph> graphs = graphs_of(chosen);
+      const detail::MotionBatch batch = detail::make_motion_batch(graphs, impl.shape, impl.normalisation);
+      const std::vector<std::vector<Vector3d>> predicted = impl.positions_from(batch, impl.network->forward(batch));
+      for (std::size_t g = 0; g < chosen.size(); ++g) {
+        const TrainingGraph& graph = *chosen[g];
+        for (std::size_t i = 0; i < graph.targets.size(); ++i) {
+          const Vector3d residual = graph.targets[i] - predicted[g][i];
+          result.error += residual.norm();
+          residual_moment += residual * residual.transpose();
+          residuals.push_back(residual);
+          known.push_back(graph.history_covariances[i].back() +
+                          (graph.target_covariances.empty() ? Matrix3d::Zero() : graph.target_covariances[i]));
+        }
+      }
+    }
+    const auto n = static_cast<double>(report.validation_objects);
+    result.error /= n;
+    result.process_noise = calibrated_process_noise(residual_moment / n, mean_known_covariance);
+    if (options.rotate) result.process_noise = averaged_over_headings(result.process_noise);
+    for (std::size_t k = 0; k < residuals.size(); ++k) {
+      const Eigen::LDLT<Matrix3d> covariance(known[k] + result.process_noise);
+      result.nll += 0.5 * (residuals[k].dot(covariance.solve(residuals[k])) +
+                           covariance.vectorD().array().log().sum() + 3.0 * std::log(2.0 * std::numbers::pi));
+    }
+    result.nll /= n;
+    return result;
+  };
+  if (options.resume.empty()) report.initial_validation_nll = validate().nll;
 
   const auto start = std::chrono::steady_clock::now();
   const auto elapsed = [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(); };
@@ -262,25 +322,9 @@ TrainingReport train_motion_model(const std::vector<TrainingGraph>& train, const
 
     if (report.diverged_epoch != 0) break;
 
-    // Validation: mean Euclidean error and the residual second moment for Q.
-    torch::NoGradGuard no_grad;
-    impl.network->eval();
-    double error_sum = 0.0;
-    Matrix3d residual_moment = Matrix3d::Zero();
-    for (const auto& chosen : validation_batches) {
-      const std::vector<MotionGraph> graphs = graphs_of(chosen);
-      const detail::MotionBatch batch = detail::make_motion_batch(graphs, impl.shape, impl.normalisation);
-      const std::vector<std::vector<Vector3d>> predicted = impl.positions_from(batch, impl.network->forward(batch));
-      for (std::size_t g = 0; g < chosen.size(); ++g) {
-        for (std::size_t i = 0; i < chosen[g]->targets.size(); ++i) {
-          const Vector3d residual = chosen[g]->targets[i] - predicted[g][i];
-          error_sum += residual.norm();
-          residual_moment += residual * residual.transpose();
-        }
-      }
-    }
-    const auto n = static_cast<double>(report.validation_objects);
-    EpochReport epoch_report{epoch, loss_sum / std::max(1, batches), error_sum / n, elapsed() - epoch_start};
+    const Validation validated = validate();
+    EpochReport epoch_report{epoch,        loss_sum / std::max(1, batches), validated.error,
+                             validated.nll, elapsed() - epoch_start};
     if (!std::isfinite(epoch_report.validation_error)) {
       report.diverged_epoch = epoch;
       report.diverged_batch = 0;
@@ -289,8 +333,7 @@ TrainingReport train_motion_model(const std::vector<TrainingGraph>& train, const
     report.epochs.push_back(epoch_report);
     if (epoch_report.validation_error < best_error) {
       best_error = epoch_report.validation_error;
-      impl.process_noise_reference = calibrated_process_noise(residual_moment / n, mean_history_covariance);
-      if (options.rotate) impl.process_noise_reference = averaged_over_headings(impl.process_noise_reference);
+      impl.process_noise_reference = validated.process_noise;
       impl.process_noise_period = reference_period;
       nlohmann::json metadata = options.metadata;
       metadata["epoch"] = epoch;

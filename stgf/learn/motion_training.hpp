@@ -4,7 +4,14 @@
 // validation after every epoch, the best model kept (with the optimizer state, configuration,
 // normalisation and the calibrated Q), deterministic for a seed.
 //
-//   loss = (1/N) Σ_i ‖x̂_i − y_i‖₂    over the objects of a batch of graphs, y = the truth.
+//   loss = (1/N) Σ_i ‖x̂_i − y_i‖₂    over the objects of a batch of graphs,
+//
+// y = the truth, or without it what was measured at the target time (make_measured_training_graphs):
+// its noise is independent of the prediction and symmetric about zero, so the prediction that
+// minimises the expected loss is the same. Q_ref = E[r rᵀ] − E[P_last] − E[P_target] on the
+// validation graphs (P_target = 0 for the truth). Each epoch reports the validation error against y
+// and the mean negative log-likelihood of y under N(x̂, P_last + P_target + Q_ref), the score a
+// measured target can be judged by.
 //
 // History source for fused inputs (how Φ learns to read fused positions):
 //   kObserved             the histories as given (e.g. the `wls` fusion of the measurements);
@@ -46,6 +53,7 @@ struct EpochReport {
   int epoch = 0;                // 1-based
   double train_loss = 0.0;      // mean Euclidean error over the epoch's batches (m)
   double validation_error = 0.0;  // mean Euclidean error on validation (m)
+  double validation_nll = 0.0;    // mean negative log-likelihood of the validation targets (nats)
   double seconds = 0.0;
 };
 
@@ -59,6 +67,7 @@ struct TrainingProgress {
 
 struct TrainingReport {
   std::vector<EpochReport> epochs;
+  double initial_validation_nll = 0.0;  // of the untrained model (not computed when resuming)
   int best_epoch = 0;
   double best_validation_error = 0.0;
   double constant_velocity_validation_error = 0.0;  // the same graphs predicted at constant velocity

@@ -59,8 +59,12 @@ struct HistoryEntry {
   Index row;       // kNone for kFused
 };
 
+// What a graph's objects are trained towards: nothing (graphs to run Φ on), the truth, or what was
+// measured (the target step's fused position, or the view's own measurement for kRawView).
+enum class Targets { kNone, kTruth, kMeasured };
+
 struct Output {
-  std::vector<TrainingGraph> graphs;  // .graph always; the truth fields when truth is given
+  std::vector<TrainingGraph> graphs;  // .graph always; the target fields unless Targets::kNone
   std::vector<std::vector<Matrix3d>> latest_covariances;  // when asked for
   std::vector<std::optional<GraphObjectIndex>> predictor_of_row;
   std::size_t restarted_tracks = 0;
@@ -72,12 +76,13 @@ struct Output {
 class GraphBuilder {
  public:
   GraphBuilder(std::span<const Measurement> measurements, HistorySource source, int history_length,
-               const TruthIndex* truth, bool latest_covariances,
+               Targets targets, const TruthIndex* truth, bool latest_covariances,
                double max_gap = std::numeric_limits<double>::infinity())
       : measurements_(measurements),
         source_(source),
         history_length_(static_cast<std::size_t>(history_length)),
         max_gap_(max_gap),
+        targets_(targets),
         truth_(truth),
         latest_covariances_(latest_covariances) {
     if (history_length < 1) {
@@ -183,7 +188,7 @@ class GraphBuilder {
       if (!graph_index) graph_index = start_graph(step, std::string_view());
       object_in_graph_[sighting - first_sighting] =
           static_cast<Index>(output_.graphs[*graph_index].graph.objects.size());
-      add_object(*graph_index, track, sighting);
+      add_object(*graph_index, track, HistoryEntry{sighting, kNone});
     }
     if (graph_index) {
       for (std::size_t row : rows.rows) {
@@ -227,7 +232,7 @@ class GraphBuilder {
       if (!track.empty()) {
         const std::size_t graph_index = graph_of_slot_[view_slot_[view_of_row_[row]]];
         const std::size_t object = output_.graphs[graph_index].graph.objects.size();
-        add_object(graph_index, track, sighting_of_row_[row]);
+        add_object(graph_index, track, HistoryEntry{sighting_of_row_[row], static_cast<Index>(row)});
         output_.predictor_of_row[row] = GraphObjectIndex{graph_index, object};
       }
       track.push_back(HistoryEntry{sighting_of_row_[row], static_cast<Index>(row)});
@@ -269,8 +274,10 @@ class GraphBuilder {
   }
   double time_of(Index sighting) const { return scene_->steps[sightings_[sighting].step].time; }
 
-  // Appends the object of `sighting` to the graph, with the last history_length entries of its track.
-  void add_object(std::size_t graph_index, std::span<const HistoryEntry> track, Index sighting) {
+  // Appends the object of `target` (the entry its track gets at this step) to the graph, with the last
+  // history_length entries of its track.
+  void add_object(std::size_t graph_index, std::span<const HistoryEntry> track, const HistoryEntry& target) {
+    const Index sighting = target.sighting;
     const std::span<const HistoryEntry> history = track.last(std::min(track.size(), history_length_));
     TrainingGraph& graph = output_.graphs[graph_index];
     ObjectHistory& object = graph.graph.objects.emplace_back();
@@ -284,7 +291,13 @@ class GraphBuilder {
     if (latest_covariances_) {
       output_.latest_covariances[graph_index].push_back(position_of(history.back()).covariance());
     }
-    if (truth_ != nullptr) {
+    if (targets_ == Targets::kMeasured) {
+      graph.targets.push_back(position_of(target).mean());
+      graph.target_covariances.push_back(position_of(target).covariance());
+      std::vector<Matrix3d>& covariances = graph.history_covariances.emplace_back();
+      covariances.reserve(history.size());
+      for (const HistoryEntry& entry : history) covariances.push_back(position_of(entry).covariance());
+    } else if (targets_ == Targets::kTruth) {
       graph.targets.push_back(true_position(sighting, sighting));
       std::vector<Vector3d>& true_history = graph.true_histories.emplace_back();
       std::vector<Matrix3d>& covariances = graph.history_covariances.emplace_back();
@@ -325,6 +338,7 @@ class GraphBuilder {
   HistorySource source_;
   std::size_t history_length_;
   double max_gap_;
+  Targets targets_;
   const TruthIndex* truth_;
   bool latest_covariances_;
   Output output_;
@@ -364,7 +378,7 @@ class GraphBuilder {
 
 MotionGraphSet make_motion_graph_set(std::span<const Measurement> measurements, HistorySource source,
                                      int history_length, double max_gap) {
-  Output output = GraphBuilder(measurements, source, history_length, nullptr, true, max_gap).build();
+  Output output = GraphBuilder(measurements, source, history_length, Targets::kNone, nullptr, true, max_gap).build();
   MotionGraphSet set;
   set.graphs.reserve(output.graphs.size());
   for (TrainingGraph& graph : output.graphs) set.graphs.push_back(std::move(graph.graph));
@@ -382,7 +396,12 @@ std::vector<MotionGraph> make_motion_graphs(std::span<const Measurement> measure
 std::vector<TrainingGraph> make_training_graphs(std::span<const Measurement> measurements,
                                                 const TruthIndex& truth, HistorySource source,
                                                 int history_length) {
-  return GraphBuilder(measurements, source, history_length, &truth, false).build().graphs;
+  return GraphBuilder(measurements, source, history_length, Targets::kTruth, &truth, false).build().graphs;
+}
+
+std::vector<TrainingGraph> make_measured_training_graphs(std::span<const Measurement> measurements,
+                                                         HistorySource source, int history_length) {
+  return GraphBuilder(measurements, source, history_length, Targets::kMeasured, nullptr, false).build().graphs;
 }
 
 }  // namespace stgf

@@ -61,11 +61,14 @@
 
 namespace stgf {
 
-// A graph with what the objects truly did, for training and validation.
+// A graph with where its objects were at the target time, for training and validation: the truth,
+// or (without truth) what was measured there.
 struct TrainingGraph {
   MotionGraph graph;
-  std::vector<Vector3d> targets;                        // true position at target_time, per object
-  std::vector<std::vector<Vector3d>> true_histories;    // true positions at the history times
+  std::vector<Vector3d> targets;                        // position at target_time, per object
+  // The targets' covariances when they were measured (per object); empty for the truth (exact).
+  std::vector<Matrix3d> target_covariances;
+  std::vector<std::vector<Vector3d>> true_histories;    // true positions at the history times; empty without truth
   std::vector<std::vector<Matrix3d>> history_covariances;  // covariance of each history position
 };
 
@@ -111,5 +114,14 @@ std::vector<MotionGraph> make_motion_graphs(std::span<const Measurement> measure
 std::vector<TrainingGraph> make_training_graphs(std::span<const Measurement> measurements,
                                                 const TruthIndex& truth, HistorySource source,
                                                 int history_length);
+
+// The same graphs without truth: each object's target is what was measured of it at the target time —
+// its fused position x_s (kFused) or the view's own measurement (kRawView) — with that position's
+// covariance in target_covariances (P_s or R); true_histories stay empty. Φ learns to predict the
+// next measurement: its noise is independent of the history's and has zero mean, so the prediction
+// that minimises the expected error is the same as against the truth (for noise symmetric about
+// zero, which a Gaussian is), at the price of noisier gradients.
+std::vector<TrainingGraph> make_measured_training_graphs(std::span<const Measurement> measurements,
+                                                         HistorySource source, int history_length);
 
 }  // namespace stgf

@@ -636,6 +636,37 @@ TEST_F(Cli, RotatedTrainingGivesAModelThatKnowsNoHeading) {
   EXPECT_THAT(slurp(directory_ / "p.pt"), Not(HasSubstr("\"rotate\"")));
 }
 
+// A recording without truth trains all the same: a benchmark folder whose train/ and val/ have no
+// truth.csv trains Φ towards the fused measurements, and a folder with truth in only one split is
+// refused naming the missing file.
+TEST_F(Cli, TrainsWithoutTruthFromTheMeasurementsAlone) {
+  if (!kWithLibTorch) GTEST_SKIP() << "built without LibTorch (-DSTGF_WITH_LIBTORCH=OFF)";
+  ASSERT_EQ(stgf("dataset synthetic --out bench --seed 3 --scenes 2 --objects 3 --views 3 --steps 15").status, 0);
+  fs::remove(directory_ / "bench/train/truth.csv");
+  const Result one_split = stgf("train --benchmark bench --out m.pt --epochs 1 --batch 8 --threads 1");
+  EXPECT_EQ(one_split.status, 2);
+  EXPECT_THAT(one_split.err, HasSubstr("bench/train/truth.csv: missing, while bench/val/truth.csv exists"));
+  EXPECT_FALSE(exists("m.pt"));
+  fs::remove(directory_ / "bench/val/truth.csv");
+  const Result matched = stgf("train --benchmark bench --out m.pt --epochs 1 --threads 1 --history-noise matched");
+  EXPECT_EQ(matched.status, 2);
+  EXPECT_THAT(matched.err, HasSubstr("without truth"));
+  const Result trained = stgf("train --benchmark bench --out m.pt --epochs 2 --batch 8 --threads 1");
+  ASSERT_EQ(trained.status, 0) << trained.err;
+  EXPECT_THAT(trained.err, HasSubstr("targets: the fused measurements (no truth)"));
+  EXPECT_THAT(trained.err, HasSubstr("scenes where views disagree"));
+  const std::string model = slurp(directory_ / "m.pt");
+  EXPECT_THAT(model, HasSubstr("\"supervision\":\"measurements\""));
+  EXPECT_THAT(model, HasSubstr("\"from\":\"disagreements\""));
+  EXPECT_THAT(model, HasSubstr("\"history_noise\":\"observed\""));
+  const Result run = stgf("run --method ours --model m.pt --measurements bench/test/measurements.csv --out o.csv");
+  EXPECT_EQ(run.status, 0) << run.err;
+  // --supervision truth where there is none names the file.
+  const Result forced = stgf("train --benchmark bench --out t.pt --epochs 1 --threads 1 --supervision truth");
+  EXPECT_EQ(forced.status, 2);
+  EXPECT_THAT(forced.err, HasSubstr("bench/train/truth.csv"));
+}
+
 // Training never reports success without a new finite model, and never replaces the previous one
 // before it is done: it works in OUT.training and renames it at the end.
 TEST_F(Cli, TrainingThatDivergesWritesNothingAndKeepsThePreviousModel) {

@@ -12,6 +12,7 @@
 #include <string>
 #include <vector>
 
+#include "stgf/core/multi_view_update.hpp"
 #include "stgf/learn/filter_calibration.hpp"
 #include "support/tiny_motion_model.hpp"
 
@@ -75,7 +76,7 @@ TEST(FilterCalibration, CalibratesAConsistentProcessNoise) {
   const Scenes scenes = constant_velocity_scenes(7);
   MotionModel model = untrained_model();
   const FilterCalibration calibration =
-      calibrate_filter_process_noise(model, RegistrationPrior{}, scenes.measurements, scenes.truth, 5);
+      calibrate_filter_process_noise(model, RegistrationPrior{}, scenes.measurements, scenes.truth, {}, 5);
   ASSERT_EQ(calibration.rounds.size(), 5u);
   EXPECT_NEAR(calibration.period, kPeriod, 1e-9);
   // Every view predicts every object from the third step on (a track of two positions or more).
@@ -102,14 +103,44 @@ TEST(FilterCalibration, CalibratesAConsistentProcessNoise) {
 
 // Each round depends only on the previous one, so two rounds from a fresh model repeat the first two
 // rounds of a longer run exactly.
+// Without truth, against the fused measurement of each row's object and time (its covariance taken
+// out), Q comes out as against the truth: the same predictions, the same scale.
+TEST(FilterCalibration, TheFusedMeasurementsStandInForTheTruth) {
+  const Scenes scenes = constant_velocity_scenes(7);
+  MotionModel against_truth = untrained_model();
+  MotionModel against_measurements = untrained_model();
+  const FilterCalibration truth =
+      calibrate_filter_process_noise(against_truth, RegistrationPrior{}, scenes.measurements, scenes.truth, {}, 5);
+  std::vector<Vector3d> targets;
+  std::vector<Matrix3d> covariances;
+  for (const Gaussian3& fused : fused_measurement_of_rows(scenes.measurements)) {
+    targets.push_back(fused.mean());
+    covariances.push_back(fused.covariance());
+  }
+  const FilterCalibration measured = calibrate_filter_process_noise(against_measurements, RegistrationPrior{},
+                                                                    scenes.measurements, targets, covariances, 5);
+  const Matrix3d& q_truth = truth.rounds.back().process_noise;
+  const Matrix3d& q_measured = measured.rounds.back().process_noise;
+  for (int axis = 0; axis < 2; ++axis) {  // the horizontal axes, where the motion is
+    EXPECT_NEAR(q_measured(axis, axis), q_truth(axis, axis), 0.25 * q_truth(axis, axis)) << q_measured << "\n\n" << q_truth;
+  }
+  EXPECT_GE(measured.rounds.back().prior_nees, 2.0);
+  EXPECT_LE(measured.rounds.back().prior_nees, 4.5);
+  // Without taking the target's covariance out, Q would absorb the measurement noise.
+  MotionModel uncorrected = untrained_model();
+  const FilterCalibration biased =
+      calibrate_filter_process_noise(uncorrected, RegistrationPrior{}, scenes.measurements, targets, {}, 5);
+  EXPECT_GT(biased.rounds.back().process_noise.trace(), 1.1 * q_measured.trace());
+}
+
 TEST(FilterCalibration, IsDeterministic) {
   const Scenes scenes = constant_velocity_scenes(11);
   MotionModel first = untrained_model();
   MotionModel second = untrained_model();
   const FilterCalibration a =
-      calibrate_filter_process_noise(first, RegistrationPrior{}, scenes.measurements, scenes.truth, 3);
+      calibrate_filter_process_noise(first, RegistrationPrior{}, scenes.measurements, scenes.truth, {}, 3);
   const FilterCalibration b =
-      calibrate_filter_process_noise(second, RegistrationPrior{}, scenes.measurements, scenes.truth, 2);
+      calibrate_filter_process_noise(second, RegistrationPrior{}, scenes.measurements, scenes.truth, {}, 2);
   ASSERT_EQ(a.rounds.size(), 3u);
   ASSERT_EQ(b.rounds.size(), 2u);
   EXPECT_EQ(a.period, b.period);
@@ -128,20 +159,20 @@ TEST(FilterCalibration, RejectsBadArguments) {
   MotionModel model = untrained_model();
   const Matrix3d before = model.process_noise(kPeriod);
   EXPECT_THROW(
-      calibrate_filter_process_noise(model, RegistrationPrior{}, scenes.measurements, scenes.truth, 0),
+      calibrate_filter_process_noise(model, RegistrationPrior{}, scenes.measurements, scenes.truth, {}, 0),
       std::invalid_argument);
   EXPECT_THROW(
-      calibrate_filter_process_noise(model, RegistrationPrior{}, scenes.measurements, scenes.truth, -1),
+      calibrate_filter_process_noise(model, RegistrationPrior{}, scenes.measurements, scenes.truth, {}, -1),
       std::invalid_argument);
   const std::vector<Vector3d> short_truth(scenes.truth.begin(), scenes.truth.end() - 1);
   EXPECT_THROW(
-      calibrate_filter_process_noise(model, RegistrationPrior{}, scenes.measurements, short_truth, 1),
+      calibrate_filter_process_noise(model, RegistrationPrior{}, scenes.measurements, short_truth, {}, 1),
       std::invalid_argument);
   // Tracks of one position only: nothing to calibrate on.
   const std::vector<Measurement> first_step(scenes.measurements.begin(),
                                             scenes.measurements.begin() + kObjects * kViews);
   const std::vector<Vector3d> first_truth(scenes.truth.begin(), scenes.truth.begin() + kObjects * kViews);
-  EXPECT_THROW(calibrate_filter_process_noise(model, RegistrationPrior{}, first_step, first_truth, 1),
+  EXPECT_THROW(calibrate_filter_process_noise(model, RegistrationPrior{}, first_step, first_truth, {}, 1),
                std::invalid_argument);
   EXPECT_EQ(model.process_noise(kPeriod), before);  // a rejected call leaves Q alone
 }

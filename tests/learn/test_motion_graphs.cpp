@@ -343,6 +343,38 @@ TEST_P(MotionGraphsBothSources, TargetsAndTrueHistoriesAreTheTruthAtTheGraphsTim
   EXPECT_GT(objects, 0u);
 }
 
+// Without truth, each object's target is what was measured of it at the target time: the step's
+// fused position (kFused) or the view's own measurement (kRawView), with its covariance.
+TEST_P(MotionGraphsBothSources, MeasuredTargetsAreWhatWasMeasuredAtTheTargetTime) {
+  const std::vector<Measurement> rows = two_view_scene();
+  const std::vector<TrainingGraph> training = make_measured_training_graphs(rows, GetParam(), 2);
+  std::vector<MotionGraph> training_graphs;
+  for (const TrainingGraph& graph : training) training_graphs.push_back(graph.graph);
+  expect_same_graphs(training_graphs, make_motion_graphs(rows, GetParam(), 2));
+  std::size_t objects = 0;
+  for (const TrainingGraph& graph : training) {
+    ASSERT_EQ(graph.targets.size(), graph.graph.objects.size());
+    ASSERT_EQ(graph.target_covariances.size(), graph.graph.objects.size());
+    ASSERT_EQ(graph.history_covariances.size(), graph.graph.objects.size());
+    EXPECT_TRUE(graph.true_histories.empty());
+    for (std::size_t i = 0; i < graph.graph.objects.size(); ++i) {
+      std::vector<Gaussian3> measured;
+      for (const Measurement& m : rows) {
+        const bool same_view = GetParam() == HistorySource::kFused || m.view == graph.graph.view;
+        if (m.object == graph.graph.objects[i].object && m.time == graph.graph.target_time && same_view) {
+          measured.push_back(m.position);
+        }
+      }
+      ASSERT_FALSE(measured.empty());
+      const Gaussian3 expected = information_weighted_mean(measured);
+      EXPECT_LT((graph.targets[i] - expected.mean()).norm(), 1e-12);
+      EXPECT_LT((graph.target_covariances[i] - expected.covariance()).norm(), 1e-12);
+      ++objects;
+    }
+  }
+  EXPECT_GT(objects, 0u);
+}
+
 TEST_P(MotionGraphsBothSources, MissingTruthThrowsNamingSceneTimeAndObject) {
   const std::vector<Measurement> rows = two_view_scene();
   std::vector<TruthPoint> points = truth_at("s", {0.0, 0.1, 0.2, 0.3}, {"a", "b"});

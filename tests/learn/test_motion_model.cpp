@@ -326,6 +326,56 @@ TEST(MotionTraining, TrainedAtOneRateWorksAtOthers) {
   }
 }
 
+// What a recording without truth gives: every position measured with noise σ = 5 cm (histories and
+// targets), target covariances σ² I, no true histories.
+std::vector<TrainingGraph> measured(std::vector<TrainingGraph> graphs, std::uint64_t seed) {
+  std::mt19937_64 random(seed);
+  std::normal_distribution<double> noise(0.0, 0.05);
+  const Matrix3d r = 0.05 * 0.05 * Matrix3d::Identity();
+  const auto noisy = [&](const Vector3d& p) { return Vector3d(p + Vector3d(noise(random), noise(random), noise(random))); };
+  for (TrainingGraph& graph : graphs) {
+    graph.true_histories.clear();
+    graph.target_covariances.assign(graph.targets.size(), r);
+    for (std::size_t i = 0; i < graph.targets.size(); ++i) {
+      for (Vector3d& p : graph.graph.objects[i].positions) p = noisy(p);
+      graph.history_covariances[i].assign(graph.graph.objects[i].positions.size(), r);
+      graph.targets[i] = noisy(graph.targets[i]);
+    }
+  }
+  return graphs;
+}
+
+// Trained towards noisy measurements alone, Φ still learns the turning: the validation NLL of the
+// measured targets falls below the untrained model's, and against the truth it beats constant velocity.
+TEST(MotionTraining, WithoutTruthLearnsFromTheMeasurementsAlone) {
+  const std::vector<TrainingGraph> validation_truth = turning_graphs(60, 42);
+  const std::vector<TrainingGraph> train = measured(turning_graphs(300, 41), 43);
+  const std::vector<TrainingGraph> validation = measured(validation_truth, 44);
+  const std::string path = scratch("measured.pt").string();
+  const TrainingReport report = train_motion_model(train, validation, turning_training_options(), path);
+  EXPECT_LT(report.epochs.back().validation_nll, report.initial_validation_nll - 1.0)
+      << report.epochs.back().validation_nll << " against " << report.initial_validation_nll;
+  const MotionModel model = MotionModel::load(path);
+  fs::remove(path);
+  const auto predicted = model.predict(graphs_only(validation));  // from the noisy histories
+  double error = 0.0;
+  std::size_t objects = 0;
+  for (std::size_t g = 0; g < validation.size(); ++g) {
+    for (std::size_t i = 0; i < validation[g].targets.size(); ++i, ++objects) {
+      error += (predicted[g][i] - validation_truth[g].targets[i]).norm();
+    }
+  }
+  std::vector<TrainingGraph> noisy_histories_true_targets = validation;
+  for (std::size_t g = 0; g < validation.size(); ++g) noisy_histories_true_targets[g].targets = validation_truth[g].targets;
+  EXPECT_LT(error / objects, constant_velocity_error(noisy_histories_true_targets));
+  // Histories drawn around the truth need the truth.
+  MotionTrainingOptions matched = turning_training_options();
+  matched.epochs = 1;
+  matched.history = HistoryNoise::kTruthWithMatchedNoise;
+  EXPECT_THROW(train_motion_model(train, validation, matched, path), std::invalid_argument);
+  fs::remove(path);
+}
+
 TEST(MotionTraining, SameSeedSameModel) {
   const std::vector<TrainingGraph> train = turning_graphs(40, 21);
   const std::vector<TrainingGraph> validation = turning_graphs(10, 22);
