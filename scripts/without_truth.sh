@@ -1,0 +1,108 @@
+#!/usr/bin/env bash
+# SPDX-License-Identifier: Apache-2.0
+# Regenerates docs/without-truth.md: `stgf train` on the mpl and cad benchmarks of scripts/results.sh
+# with their train/ and val/ truth taken away (measurements only, as a user's own recordings are),
+# against the models results.sh trained with the truth. Same epochs (8), seed (1), threads (2) and
+# --portable as results.sh. The test splits keep their truth, to score both. About 8 minutes on 2
+# cores. Run scripts/results.sh first.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+models=build/reproduce/models
+benchmarks=build/reproduce/benchmarks
+for b in mpl cad; do
+  [ -f "$models/$b.pt" ] || { echo "run scripts/results.sh first ($models/$b.pt)" >&2; exit 2; }
+done
+out=build/without-truth
+mkdir -p "$out"
+doc="$out/without-truth.md"
+{
+  echo "# Training without ground truth"
+  echo
+  echo "Produced by \`scripts/without_truth.sh\` (seed 1). Each benchmark of docs/results.md is copied"
+  echo "without its train and val truth, and \`stgf train\` (8 epochs, as \`stgf reproduce\` trains) learns"
+  echo "from the measurements alone (\`--supervision auto\` finds no truth.csv): Φ predicts the next"
+  echo "fused measurement, Q is calibrated from the innovations, the registration prior from what the"
+  echo "views disagree on (design §1.14). \`ours (no truth)\` runs with that model, \`ours (truth)\`"
+  echo "with the model docs/results.md used; both on the same test split, scored against its truth"
+  echo "from step 2 on."
+} > "$doc"
+
+for b in mpl cad; do
+  folder="$out/$b"
+  mkdir -p "$folder/train" "$folder/val"
+  for split in train val; do cp "$benchmarks/$b/$split/measurements.csv" "$folder/$split/"; done
+  if [ ! -f "$out/$b.pt" ]; then
+    build/stgf train --benchmark "$folder" --out "$out/$b.pt" --epochs 8 --seed 1 --threads 2 --portable \
+      2> "$out/$b-train.log"
+  fi
+  test="$benchmarks/$b/test"
+  m="$test/measurements.csv"
+  for method in wls mmt; do build/stgf run --method "$method" --measurements "$m" --out "$out/$method.csv" 2>/dev/null; done
+  build/stgf run --method ours --model "$out/$b.pt" --measurements "$m" --out "$out/ours-no-truth.csv" 2>/dev/null
+  sed -i 's/,ours$/,ours (no truth)/' "$out/ours-no-truth.csv"
+  build/stgf run --method ours --model "$models/$b.pt" --measurements "$m" --out "$out/ours-truth.csv" 2>/dev/null
+  sed -i 's/,ours$/,ours (truth)/' "$out/ours-truth.csv"
+  # The truth-trained model with the registration prior the measurements gave (from the training log).
+  prior=$(sed -n 's/.*translation sigma (\([^,]*\), \([^,]*\), \([^)]*\)) m, noise ratio \(.*\)/\1 \2 \3 \4/p' "$out/$b-train.log")
+  read -r sx sy sz alpha <<< "$prior"
+  printf 'ours:\n  registration_translation_sigma_m: [%s, %s, %s]\n  registration_noise_ratio: %s\n' \
+    "$sx" "$sy" "$sz" "$alpha" > "$out/$b-prior.yaml"
+  build/stgf run --method ours --model "$models/$b.pt" --config "$out/$b-prior.yaml" --measurements "$m" \
+    --out "$out/ours-truth-prior.csv" 2>/dev/null
+  sed -i 's/,ours$/,ours (truth; prior without truth)/' "$out/ours-truth-prior.csv"
+  # ... and the model trained without truth with the prior the truth gave (from the model file).
+  registration=$(grep -a -o '"registration":{[^}]*}' "$models/$b.pt" | head -1)
+  alpha=$(sed 's/.*"noise_ratio":\([^,}]*\).*/\1/' <<< "$registration")
+  sigma=$(sed 's/.*"translation_sigma_m":\[\([^]]*\)\].*/\1/' <<< "$registration")
+  printf 'ours:\n  registration_translation_sigma_m: [%s]\n  registration_noise_ratio: %s\n' "$sigma" "$alpha" \
+    > "$out/$b-truth-prior.yaml"
+  build/stgf run --method ours --model "$out/$b.pt" --config "$out/$b-truth-prior.yaml" --measurements "$m" \
+    --out "$out/ours-no-truth-prior.csv" 2>/dev/null
+  sed -i 's/,ours$/,ours (no truth; prior from the truth)/' "$out/ours-no-truth-prior.csv"
+  {
+    echo
+    echo "## $b test split"
+    echo
+    build/stgf eval --truth "$test/truth.csv" --measurements "$m" --from-step 2 \
+      --estimates "$out/wls.csv" "$out/mmt.csv" "$out/ours-truth.csv" "$out/ours-no-truth.csv" "$out/ours-truth-prior.csv" \
+      "$out/ours-no-truth-prior.csv" \
+      | sed -n '1,/^$/p'
+    echo "What training found (\`stgf train\`'s log):"
+    echo
+    echo '```'
+    grep -E "registration error|best epoch|Q in the filter" "$out/$b-train.log" | sed -n '1,2p;$p' | sed 's/^stgf: //'
+    echo '```'
+    echo
+    echo "The model trained with the truth (\`$models/$b.pt\`) has the prior:"
+    echo
+    echo '```'
+    grep -a -o '"registration":{[^}]*}' "$models/$b.pt" | head -1
+    echo '```'
+  } >> "$doc"
+done
+cat >> "$doc" <<'NOTES'
+
+## Reading the numbers
+
+- **Within 10 % of the truth-trained model on both** (issue 11's target): on mpl `ours (no truth)`
+  is 0.5 % less accurate (0.0401 against 0.0399 m) with NEES 2.97; on cad it is 2.5 % more accurate
+  (0.3372 against 0.3458 m) with NEES 2.96.
+- **The registration prior from the disagreements** matches the one fitted against the truth on
+  mpl: translation σ (0.039, 0.023, 0) m against (0.035, 0.021, 0), the noise ratio α 0.49 both.
+  On cad the translation σ agree (0.31, 0.37 against 0.32, 0.33 m) but α is 0 against 0.95. cad's
+  offsets are GPS pose errors: a position error, and a heading error that moves a measurement by
+  its range times the angle, across the line of sight. stgf's offset model (a translation, and an
+  offset in units of the view's own noise, design §1.7) describes the heading part only roughly,
+  and the two fits settle that approximation differently. That is where cad's difference comes
+  from: the truth-trained model with the prior from the disagreements is as accurate (0.3386 m) and
+  a little overconfident (NEES 3.18), and the model trained without truth, run with the truth's
+  prior, gives 0.3442 m: Φ learnt from measurements predicts as well as Φ learnt from the truth.
+- **Q**: calibrated inside the filter against the fused measurements, with their covariance taken
+  out, the predictions' NEES on the validation split ends at 2.66 (mpl) and 2.51 (cad), and the test
+  NEES of `ours` is 2.97 and 2.96.
+- The benchmarks' measurements are simulated with exactly the noise their R states, so the fused
+  measurement is an honest target here; with sensors whose R understates their noise, Q and the
+  prior come out too small (design §1.14).
+NOTES
+cp "$doc" docs/without-truth.md
+echo "wrote docs/without-truth.md"
