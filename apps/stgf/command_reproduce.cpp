@@ -207,7 +207,7 @@ void ensure_model(const std::string& name, const fs::path& benchmark, const fs::
   const Stopwatch watch;
   fs::create_directories(model.parent_path());
   ModelTraining training;
-  training.benchmark = benchmark.string();
+  training.benchmarks = {benchmark.string()};
   training.out = model.string();
   training.input = input;
   training.training.epochs = epochs_of(options);

@@ -13,7 +13,10 @@ void add_train_command(CLI::App& app) {
   auto portable = std::make_shared<bool>(false);  // --portable: pin the kernels first (learned_seam.hpp)
   MotionTrainingOptions& t = options->training;
   CLI::App* command = app.add_subcommand("train", kTrainDescription);
-  command->add_option("--benchmark", options->benchmark, "benchmark folder (train/ and val/)")->required();
+  command->add_option("--benchmark", options->benchmarks,
+                      "benchmark folder (train/ and val/); several (comma-separated) train one model on all of them")
+      ->delimiter(',')
+      ->required();
   command->add_option("--out", options->out, "model file to write (the best epoch's model)")->required();
   command->add_option("--input", options->input, "histories Φ learns from: raw (one view's measurements, for sttp) "
                                                  "or fused (all views fused, for ours-l and ours)")

@@ -8,6 +8,7 @@
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
+#include <iterator>
 #include <optional>
 #include <span>
 #include <stdexcept>
@@ -55,8 +56,7 @@ class WorkingFile {
 
 struct Split {
   std::vector<TrainingGraph> graphs;
-  RegistrationCalibration registration;  // of the views' unstated offsets
-  MeasurementFile measurements;
+  std::vector<Measurement> measurements;
   // Per row, where its object was: the truth, or (without truth) the fused measurement of the object
   // at the row's time with its covariance.
   std::vector<Vector3d> target_of_row;
@@ -64,7 +64,7 @@ struct Split {
 };
 
 // `strides`: the graphs are made from the scenes at each of these fractions of the frame rate.
-// `with_truth`: targets and registration from truth.csv; else from the measurements alone.
+// `with_truth`: targets from truth.csv; else from the measurements alone.
 Split read_split(const std::string& folder, HistorySource source, int history_length, bool with_truth,
                  const std::vector<int>& strides = {1}) {
   MeasurementFile measurements = read_measurements(folder + "/measurements.csv");
@@ -78,13 +78,11 @@ Split read_split(const std::string& folder, HistorySource source, int history_le
     for (const Measurement& row : measurements.rows) {
       split.target_of_row.push_back(*index->find(row.scene, row.time, row.object));
     }
-    split.registration = calibrate_registration_prior(measurements.rows, split.target_of_row);
   } else {
     for (const Gaussian3& fused : fused_measurement_of_rows(measurements.rows)) {
       split.target_of_row.push_back(fused.mean());
       split.target_covariance_of_row.push_back(fused.covariance());
     }
-    split.registration = calibrate_registration_prior_from_disagreements(measurements.rows);
   }
   for (const int stride : strides) {
     const std::vector<Measurement> strided_rows =
@@ -94,26 +92,49 @@ Split read_split(const std::string& folder, HistorySource source, int history_le
                                                          : make_measured_training_graphs(rows, source, history_length);
     split.graphs.insert(split.graphs.end(), graphs.begin(), graphs.end());
   }
-  split.measurements = std::move(measurements);
+  split.measurements = std::move(measurements.rows);
   return split;
 }
 
-// Whether to train against the truth: --supervision truth or measurements, or auto: truth when both
-// splits have a truth.csv, the measurements when neither has.
+// One split of several benchmarks: their graphs and rows one after the other. With more than one,
+// each row's scene is prefixed by its benchmark's number ("2/scene"), so that scenes of different
+// benchmarks with the same name stay apart.
+Split read_splits(const std::vector<std::string>& benchmarks, const std::string& split, HistorySource source,
+                  int history_length, bool with_truth, const std::vector<int>& strides = {1}) {
+  if (benchmarks.size() == 1) return read_split(benchmarks[0] + split, source, history_length, with_truth, strides);
+  Split all;
+  for (std::size_t k = 0; k < benchmarks.size(); ++k) {
+    Split one = read_split(benchmarks[k] + split, source, history_length, with_truth, strides);
+    for (TrainingGraph& graph : one.graphs) graph.graph.scene = fmt::format("{}/{}", k + 1, graph.graph.scene);
+    for (Measurement& row : one.measurements) row.scene = fmt::format("{}/{}", k + 1, row.scene);
+    std::move(one.graphs.begin(), one.graphs.end(), std::back_inserter(all.graphs));
+    std::move(one.measurements.begin(), one.measurements.end(), std::back_inserter(all.measurements));
+    all.target_of_row.insert(all.target_of_row.end(), one.target_of_row.begin(), one.target_of_row.end());
+    all.target_covariance_of_row.insert(all.target_covariance_of_row.end(), one.target_covariance_of_row.begin(),
+                                        one.target_covariance_of_row.end());
+  }
+  return all;
+}
+
+// Whether to train against the truth: --supervision truth or measurements, or auto: truth when every
+// split of every benchmark has a truth.csv, the measurements when none has.
 bool trains_with_truth(const ModelTraining& options) {
-  const std::string train_truth = options.benchmark + "/train/truth.csv";
-  const std::string val_truth = options.benchmark + "/val/truth.csv";
   if (options.supervision == "truth") return true;
   if (options.supervision == "measurements") return false;
-  const bool train = std::filesystem::exists(train_truth);
-  const bool val = std::filesystem::exists(val_truth);
-  if (train != val) {
-    throw InputError(train ? val_truth : train_truth, 0,
-                     fmt::format("missing, while {} exists: give both splits their truth, or neither to train from the "
-                                 "measurements alone (or choose with --supervision truth|measurements)",
-                                 train ? train_truth : val_truth));
+  std::optional<std::string> with, without;  // a split's truth file that exists, and one that does not
+  for (const std::string& benchmark : options.benchmarks) {
+    for (const char* split : {"/train/truth.csv", "/val/truth.csv"}) {
+      std::optional<std::string>& seen = std::filesystem::exists(benchmark + split) ? with : without;
+      if (!seen) seen = benchmark + split;
+    }
   }
-  return train;
+  if (with && without) {
+    throw InputError(*without, 0,
+                     fmt::format("missing, while {} exists: give every split its truth, or none to train from the "
+                                 "measurements alone (or choose with --supervision truth|measurements)",
+                                 *with));
+  }
+  return with.has_value();
 }
 
 std::string duration(double seconds) {
@@ -146,11 +167,12 @@ void show_progress(const TrainingProgress& p, bool terminal, double& last_shown)
 }
 
 // Q again, in the regime `ours` runs in: the filter over the validation split (filter_calibration.hpp).
-void calibrate_in_filter(const std::string& model_path, const Split& validation, bool any_heading) {
+void calibrate_in_filter(const std::string& model_path, const Split& validation, const RegistrationPrior& registration,
+                         bool any_heading) {
   const auto start = std::chrono::steady_clock::now();
   MotionModel model = MotionModel::load(model_path);
   const FilterCalibration calibration =
-      calibrate_filter_process_noise(model, validation.registration.prior, validation.measurements.rows,
+      calibrate_filter_process_noise(model, registration, validation.measurements,
                                      validation.target_of_row, validation.target_covariance_of_row, 5, any_heading);
   nlohmann::json rounds = nlohmann::json::array();
   for (const FilterCalibrationRound& round : calibration.rounds) {
@@ -171,9 +193,12 @@ void calibrate_in_filter(const std::string& model_path, const Split& validation,
 }  // namespace
 
 void train_model(ModelTraining options) {
+  if (options.benchmarks.empty()) throw std::invalid_argument("--benchmark needs at least one folder");
   std::vector<std::string> inputs = {options.training.resume};
-  for (const char* split : {"/train/", "/val/"}) {
-    for (const char* file : {"measurements.csv", "truth.csv"}) inputs.push_back(options.benchmark + split + file);
+  for (const std::string& benchmark : options.benchmarks) {
+    for (const char* split : {"/train/", "/val/"}) {
+      for (const char* file : {"measurements.csv", "truth.csv"}) inputs.push_back(benchmark + split + file);
+    }
   }
   refuse_output_over_input("--out", options.out, inputs);
   const HistorySource source = options.input == "raw" ? HistorySource::kRawView : HistorySource::kFused;
@@ -188,8 +213,11 @@ void train_model(ModelTraining options) {
                        (options.history_noise == "auto" && options.input == "fused" && with_truth);
   options.training.history = matched ? HistoryNoise::kTruthWithMatchedNoise : HistoryNoise::kObserved;
   options.training.rotate = options.rotate;
+  // One benchmark is recorded as its folder, several as the list.
+  const nlohmann::json benchmark_record =
+      options.benchmarks.size() == 1 ? nlohmann::json(options.benchmarks[0]) : nlohmann::json(options.benchmarks);
   options.training.metadata = {{"input", options.input},
-                               {"benchmark", options.benchmark},
+                               {"benchmark", benchmark_record},
                                {"strides", options.strides},
                                {"supervision", with_truth ? "truth" : "measurements"}};
   if (options.rotate) options.training.metadata["rotate"] = true;
@@ -197,10 +225,14 @@ void train_model(ModelTraining options) {
   const int history = options.training.shape.history_length + 1;  // positions = intervals + 1
   const auto start = std::chrono::steady_clock::now();
   const std::vector<TrainingGraph> train_graphs =
-      read_split(options.benchmark + "/train", source, history, with_truth, options.strides).graphs;
-  Split validation = read_split(options.benchmark + "/val", source, history, with_truth);
+      read_splits(options.benchmarks, "/train", source, history, with_truth, options.strides).graphs;
+  const Split validation = read_splits(options.benchmarks, "/val", source, history, with_truth);
+  // The views' registration prior, on the validation split (of every benchmark together).
+  RegistrationCalibration calibrated = with_truth
+                                           ? calibrate_registration_prior(validation.measurements, validation.target_of_row)
+                                           : calibrate_registration_prior_from_disagreements(validation.measurements);
   if (options.rotate) {  // a prior that does not depend on the world frame's heading either
-    Vector3d& sigma = validation.registration.prior.translation_sigma;
+    Vector3d& sigma = calibrated.prior.translation_sigma;
     sigma.x() = sigma.y() = std::sqrt(0.5 * (sigma.x() * sigma.x() + sigma.y() * sigma.y()));
   }
   const std::vector<TrainingGraph>& validation_graphs = validation.graphs;
@@ -208,20 +240,24 @@ void train_model(ModelTraining options) {
                train_graphs.size(), validation_graphs.size(), options.input,
                with_truth ? "the truth" : "the fused measurements (no truth)",
                std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
-  const RegistrationPrior& registration = validation.registration.prior;
+  const RegistrationPrior& registration = calibrated.prior;
   spdlog::info("registration error on the validation split ({} {}): translation sigma ({:.3g}, {:.3g}, "
                "{:.3g}) m, noise ratio {:.3g}",
-               validation.registration.groups,
+               calibrated.groups,
                with_truth ? "scene-views against the truth" : "scenes where views disagree",
                registration.translation_sigma.x(),
                registration.translation_sigma.y(), registration.translation_sigma.z(), registration.noise_ratio);
   options.training.metadata["registration"] = registration_prior_to_json(registration);
-  options.training.metadata["registration"]["calibrated_on"] = options.benchmark + "/val";
+  std::string calibrated_on;
+  for (const std::string& benchmark : options.benchmarks) {
+    calibrated_on += (calibrated_on.empty() ? "" : ",") + benchmark + "/val";
+  }
+  options.training.metadata["registration"]["calibrated_on"] = calibrated_on;
   options.training.metadata["registration"]["from"] = with_truth ? "truth" : "disagreements";
-  if (!with_truth && validation.registration.groups == 0) {
-    spdlog::warn("no two views measure an object at the same time in {}/val: the registration prior stays zero "
+  if (!with_truth && calibrated.groups == 0) {
+    spdlog::warn("no two views measure an object at the same time in {}: the registration prior stays zero "
                  "(no offsets assumed); views on their own clocks show their offsets only against the truth",
-                 options.benchmark);
+                 calibrated_on);
   }
   const bool terminal = ::isatty(::fileno(stderr)) != 0;
   double last_shown = -1.0;
@@ -253,7 +289,7 @@ void train_model(ModelTraining options) {
                report.best_epoch, report.best_validation_error, report.constant_velocity_validation_error,
                with_truth ? "" : ", both against the fused measurements, whose own noise they include",
                report.process_noise_period, q(0, 0), q(1, 1), q(2, 2));
-  if (source == HistorySource::kFused) calibrate_in_filter(working.path(), validation, options.rotate);
+  if (source == HistorySource::kFused) calibrate_in_filter(working.path(), validation, registration, options.rotate);
   MotionModel::load(working.path());  // finite weights of the stated shape, or InputError
   working.move_to(options.out);
   spdlog::info("model written to {}", options.out);

@@ -26,7 +26,9 @@
 namespace stgf::cli {
 
 struct ModelTraining {
-  std::string benchmark;               // folder with train/ and val/
+  // Folders with train/ and val/; with several, Φ trains on all their training splits together,
+  // and the registration prior and Q are calibrated on all their validation splits together.
+  std::vector<std::string> benchmarks;
   std::string out;                     // model file to write
   std::string input = "fused";         // raw (sttp) | fused (ours-l, ours)
   std::string history_noise = "auto";  // observed | matched | auto (matched for fused, with truth)

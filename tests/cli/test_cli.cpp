@@ -667,6 +667,42 @@ TEST_F(Cli, TrainsWithoutTruthFromTheMeasurementsAlone) {
   EXPECT_THAT(forced.err, HasSubstr("bench/train/truth.csv"));
 }
 
+// One model from several benchmarks: their training graphs together (scenes of the same name stay
+// apart), the prior and Q calibrated on their validation splits together, and the list recorded.
+TEST_F(Cli, TrainsOneModelOnSeveralBenchmarks) {
+  if (!kWithLibTorch) GTEST_SKIP() << "built without LibTorch (-DSTGF_WITH_LIBTORCH=OFF)";
+  ASSERT_EQ(stgf("dataset synthetic --out a --seed 3 --scenes 2 --objects 3 --views 2 --steps 15").status, 0);
+  ASSERT_EQ(stgf("dataset synthetic --out b --seed 4 --scenes 3 --objects 2 --views 3 --steps 12 --rate 5").status, 0);
+  // "N training and M validation graphs"
+  const auto graphs = [](const std::string& log) {
+    const std::size_t end = log.find(" training and ");
+    const std::size_t start = log.rfind(' ', end - 1) + 1;
+    const std::size_t validation_end = log.find(" validation graphs");
+    const std::size_t validation_start = log.rfind(' ', validation_end - 1) + 1;
+    return std::pair<int, int>{std::stoi(log.substr(start, end - start)),
+                               std::stoi(log.substr(validation_start, validation_end - validation_start))};
+  };
+  const Result a = stgf("train --benchmark a --out a.pt --epochs 1 --batch 8 --threads 1");
+  const Result b = stgf("train --benchmark b --out b.pt --epochs 1 --batch 8 --threads 1");
+  const Result both = stgf("train --benchmark a,b --out ab.pt --epochs 1 --batch 8 --threads 1");
+  ASSERT_EQ(a.status, 0) << a.err;
+  ASSERT_EQ(b.status, 0) << b.err;
+  ASSERT_EQ(both.status, 0) << both.err;
+  EXPECT_EQ(graphs(both.err).first, graphs(a.err).first + graphs(b.err).first);
+  EXPECT_EQ(graphs(both.err).second, graphs(a.err).second + graphs(b.err).second);
+  const std::string model = slurp(directory_ / "ab.pt");
+  EXPECT_THAT(model, HasSubstr("\"benchmark\":[\"a\",\"b\"]"));
+  EXPECT_THAT(model, HasSubstr("\"calibrated_on\":\"a/val,b/val\""));
+  EXPECT_THAT(slurp(directory_ / "a.pt"), HasSubstr("\"benchmark\":\"a\""));
+  const Result run = stgf("run --method ours --model ab.pt --measurements b/test/measurements.csv --out o.csv");
+  EXPECT_EQ(run.status, 0) << run.err;
+  // One benchmark with truth and one without is refused, naming a missing file.
+  fs::remove(directory_ / "b/train/truth.csv");
+  const Result mixed = stgf("train --benchmark a,b --out m.pt --epochs 1 --threads 1");
+  EXPECT_EQ(mixed.status, 2);
+  EXPECT_THAT(mixed.err, HasSubstr("b/train/truth.csv: missing, while a/train/truth.csv exists"));
+}
+
 // Training never reports success without a new finite model, and never replaces the previous one
 // before it is done: it works in OUT.training and renames it at the end.
 TEST_F(Cli, TrainingThatDivergesWritesNothingAndKeepsThePreviousModel) {
