@@ -101,8 +101,6 @@ TEST(FilterCalibration, CalibratesAConsistentProcessNoise) {
             1e-15);
 }
 
-// Each round depends only on the previous one, so two rounds from a fresh model repeat the first two
-// rounds of a longer run exactly.
 // Without truth, against the fused measurement of each row's object and time (its covariance taken
 // out), Q comes out as against the truth: the same predictions, the same scale.
 TEST(FilterCalibration, TheFusedMeasurementsStandInForTheTruth) {
@@ -133,6 +131,8 @@ TEST(FilterCalibration, TheFusedMeasurementsStandInForTheTruth) {
   EXPECT_GT(biased.rounds.back().process_noise.trace(), 1.1 * q_measured.trace());
 }
 
+// Each round depends only on the previous one, so two rounds from a fresh model repeat the first two
+// rounds of a longer run exactly.
 TEST(FilterCalibration, IsDeterministic) {
   const Scenes scenes = constant_velocity_scenes(11);
   MotionModel first = untrained_model();
