@@ -1,0 +1,117 @@
+#!/usr/bin/env bash
+# SPDX-License-Identifier: Apache-2.0
+# Regenerates docs/general-model.md: one model trained on several of the project's real-data
+# benchmarks (`stgf train --benchmark A,B`), scored on the test split of the one it did not see
+# (leave one dataset out), against the model-free baselines and the held-out benchmark's own model.
+# The benchmarks: mpl (PETS 2009 pedestrians, 7 Hz, cameras) and cad (KITTI vehicles, 10 Hz) of
+# scripts/results.sh, and ethucy (ETH/UCY pedestrians, 2.5 Hz; scene eth held out as its test split).
+# Same epochs (8), seed (1), threads (2) and --portable as results.sh. About 20 minutes on 2 cores.
+# Run scripts/results.sh first.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+models=build/reproduce/models
+benchmarks=build/reproduce/benchmarks
+for b in mpl cad; do
+  [ -f "$models/$b.pt" ] || { echo "run scripts/results.sh first ($models/$b.pt)" >&2; exit 2; }
+done
+out=build/general-model
+mkdir -p "$out"
+[ -f "$out/ethucy/benchmark.json" ] || build/stgf dataset ethucy --out "$out/ethucy" --seed 1 2>/dev/null
+folder_of() { case $1 in ethucy) echo "$out/ethucy" ;; *) echo "$benchmarks/$1" ;; esac; }
+
+train() {  # name, benchmarks (comma-separated names)
+  local name=$1 list=$2 folders=""
+  for b in ${list//,/ }; do folders="$folders${folders:+,}$(folder_of "$b")"; done
+  [ -f "$out/$name.pt" ] || build/stgf train --benchmark "$folders" --out "$out/$name.pt" --epochs 8 --seed 1 \
+    --threads 2 --portable 2> "$out/$name-train.log"
+}
+train ethucy ethucy
+train without-mpl cad,ethucy
+train without-cad mpl,ethucy
+train without-ethucy mpl,cad
+train all mpl,cad,ethucy
+
+doc="$out/general-model.md"
+{
+  echo "# One model for several kinds of data"
+  echo
+  echo "Produced by \`scripts/general_model.sh\` (seed 1). Each model is trained with"
+  echo "\`stgf train --benchmark A,B\` (8 epochs, as \`stgf reproduce\` trains) on the train and val splits"
+  echo "of the benchmarks it names, and scored on the test split of the one it did not see. \`ours"
+  echo "(own)\` is the held-out benchmark's own model (docs/results.md; for ethucy trained here the same"
+  echo "way), \`ours (all)\` the model trained on all three. Scored from step 2 on."
+} > "$doc"
+
+score() {  # benchmark, leave-one-out model name, own model path
+  local b=$1 held_out=$2 own=$3
+  local test m
+  test="$(folder_of "$b")/test"
+  m="$test/measurements.csv"
+  for method in wls mmt; do build/stgf run --method "$method" --measurements "$m" --out "$out/$method.csv" 2>/dev/null; done
+  build/stgf run --method ours --model "$own" --measurements "$m" --out "$out/ours-own.csv" 2>/dev/null
+  sed -i 's/,ours$/,ours (own)/' "$out/ours-own.csv"
+  build/stgf run --method ours --model "$out/$held_out.pt" --measurements "$m" --out "$out/ours-held-out.csv" \
+    2> "$out/$b-run.log"
+  sed -i "s/,ours\$/,ours ($held_out)/" "$out/ours-held-out.csv"
+  build/stgf run --method ours --model "$out/all.pt" --measurements "$m" --out "$out/ours-all.csv" 2>/dev/null
+  sed -i 's/,ours$/,ours (all)/' "$out/ours-all.csv"
+  {
+    echo
+    echo "## $b test split"
+    echo
+    build/stgf eval --truth "$test/truth.csv" --measurements "$m" --from-step 2 \
+      --estimates "$out/wls.csv" "$out/mmt.csv" "$out/ours-own.csv" "$out/ours-held-out.csv" "$out/ours-all.csv" \
+      | sed -n '1,/^$/p'
+    echo "\`ours ($held_out)\` on it (\`stgf run\`'s log):"
+    echo
+    echo '```'
+    grep -E "constant velocity predicted better|restarted|registration prior scaled|kept the registration prior" "$out/$b-run.log" \
+      | sed 's/^stgf: //' || true
+    echo '```'
+  } >> "$doc"
+}
+score mpl without-mpl "$models/mpl.pt"
+score cad without-cad "$models/cad.pt"
+score ethucy without-ethucy "$out/ethucy.pt"
+
+{
+  echo
+  echo "## What each model was calibrated to"
+  echo
+  echo "| model | registration prior σ (m) | α | Q in the filter at Δt_ref |"
+  echo "|---|---|---:|---|"
+  for name in ethucy without-mpl without-cad without-ethucy all; do
+    prior=$(sed -n 's/.*translation sigma (\(.*\)) m, noise ratio \(.*\)/(\1) | \2/p' "$out/$name-train.log")
+    q=$(grep "Q in the filter" "$out/$name-train.log" | tail -1 | sed 's/.*-> Q at \(.*\)/\1/')
+    echo "| $name | $prior | $q |"
+  done
+} >> "$doc"
+cat >> "$doc" <<'NOTES'
+
+## Reading the numbers
+
+Not yet a model to ship (issue 11, item 4). Left out of training, each benchmark is scored worse by
+the model of the other two than by `wls` and `mmt` (mpl 0.0879 m against 0.0556, ethucy 0.1144
+against 0.1032), or with a covariance far too small (cad 0.4503 m, below `mmt`'s 0.4632, but NEES
+27). Trained on all three, the model is close to each benchmark's own on ethucy (0.0886 against
+0.0882 m) and within 14 % on mpl and 5 % on cad, but overconfident on cad (NEES 8.7). What the
+table of calibrations shows is why:
+
+- **Q is one matrix for every kind of motion.** Per 0.1 s, the pedestrians' own Q is about
+  4·10⁻⁴ m² per axis (mpl and ethucy alike), the vehicles' 0.1 m²: 300 times more. A model
+  calibrated on both takes a compromise that is far too large for pedestrians and far too small
+  for vehicles, and the online scale λ (design §1.2) only widens Q, within a scene of 1 s (cad) or
+  a few seconds. The mixture also skews Δt_ref (0.4 s when ethucy dominates), and Q(Δt) ∝ Δt² then
+  carries the compromise to rates it was not measured at. A Q that depends on the motion (for
+  instance on the track's speed: a vehicle turning at 10 m/s accelerates more than a pedestrian) is
+  the next step.
+- **The registration prior is one shape for every sensor.** The cameras' offsets are a few
+  centimetres, the vehicles' GPS errors 0.3 m: together 0.18–0.2 m, which the per-scene scale κ
+  brings down on mpl (median 0.87, not far enough) and up on cad (11.3).
+- **Φ reads velocities in units of the training data's typical speed**, one for all (design §1.1):
+  with vehicles in the training data it is 3.0–3.9 m/s, and pedestrians (1.0–1.1 m/s alone) move
+  at a third of it or less. Its horizon, twice the longest interval of any of the data (1.2 s, from
+  ethucy at a third of 2.5 Hz), is then also granted to the vehicles.
+NOTES
+cp "$doc" docs/general-model.md
+echo "wrote docs/general-model.md"
