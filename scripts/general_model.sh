@@ -9,11 +9,7 @@
 # Run scripts/results.sh first.
 set -euo pipefail
 cd "$(dirname "$0")/.."
-models=build/reproduce/models
-benchmarks=build/reproduce/benchmarks
-for b in mpl cad; do
-  [ -f "$models/$b.pt" ] || { echo "run scripts/results.sh first ($models/$b.pt)" >&2; exit 2; }
-done
+. scripts/results_models.sh
 out=build/general-model
 mkdir -p "$out"
 [ -f "$out/ethucy/benchmark.json" ] || build/stgf dataset ethucy --out "$out/ethucy" --seed 1 2>/dev/null

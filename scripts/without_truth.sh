@@ -7,11 +7,7 @@
 # cores. Run scripts/results.sh first.
 set -euo pipefail
 cd "$(dirname "$0")/.."
-models=build/reproduce/models
-benchmarks=build/reproduce/benchmarks
-for b in mpl cad; do
-  [ -f "$models/$b.pt" ] || { echo "run scripts/results.sh first ($models/$b.pt)" >&2; exit 2; }
-done
+. scripts/results_models.sh
 out=build/without-truth
 mkdir -p "$out"
 doc="$out/without-truth.md"
