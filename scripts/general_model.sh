@@ -98,9 +98,10 @@ table of calibrations shows is why:
   calibrated on both takes a compromise that is far too large for pedestrians and far too small
   for vehicles, and the online scale λ (design §1.2) only widens Q, within a scene of 1 s (cad) or
   a few seconds. The mixture also skews Δt_ref (0.4 s when ethucy dominates), and Q(Δt) ∝ Δt² then
-  carries the compromise to rates it was not measured at. A Q that depends on the motion (for
-  instance on the track's speed: a vehicle turning at 10 m/s accelerates more than a pedestrian) is
-  the next step.
+  carries the compromise to rates it was not measured at. Much of what Q stands for on cad is not
+  the objects' motion but the noise of the history Φ reads (range-dependent noise of tens of
+  centimetres, against centimetres for the cameras): a Q that scales with the track's own
+  uncertainty, not one matrix, is the next step.
 - **The registration prior is one shape for every sensor.** The cameras' offsets are a few
   centimetres, the vehicles' GPS errors 0.3 m: together 0.18–0.2 m, which the per-scene scale κ
   brings down on mpl (median 0.87, not far enough) and up on cad (11.3).
