@@ -148,8 +148,8 @@ void show_progress(const TrainingProgress& p, bool terminal, double& last_shown)
   if (p.finished_epoch != nullptr) {
     if (terminal) std::fputs("\r\033[K", stderr);
     const EpochReport& e = *p.finished_epoch;
-    spdlog::info("epoch {}/{}: train {:.4f} m, validation {:.4f} m, {:.1f} s", e.epoch, p.epochs, e.train_loss,
-                 e.validation_error, e.seconds);
+    spdlog::info("epoch {}/{}: train {:.4f} m, validation {:.4f} m (NLL {:.3f}), {:.1f} s", e.epoch, p.epochs,
+                 e.train_loss, e.validation_error, e.validation_nll, e.seconds);
     return;
   }
   if (!terminal || (p.elapsed_seconds - last_shown < 0.1 && p.batch < p.batches)) return;
@@ -284,6 +284,11 @@ void train_model(ModelTraining options) {
     throw std::runtime_error("no epoch gave a finite validation error: nothing written, " + options.out + " unchanged");
   }
   const Matrix3d& q = report.process_noise;
+  if (report.initial_validation_nll) {
+    spdlog::info("validation NLL of the untrained model: {:.3f} (the mean negative log-likelihood of the validation "
+                 "targets under the prediction and its covariance)",
+                 *report.initial_validation_nll);
+  }
   spdlog::info("best epoch {}: validation error {:.4f} m (constant velocity: {:.4f} m{}); Q at Δt = {:.3f} s: "
                "diag({:.3g}, {:.3g}, {:.3g}) m²",
                report.best_epoch, report.best_validation_error, report.constant_velocity_validation_error,

@@ -21,6 +21,7 @@
 // will see at run time.
 
 #include <functional>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -67,7 +68,7 @@ struct TrainingProgress {
 
 struct TrainingReport {
   std::vector<EpochReport> epochs;
-  double initial_validation_nll = 0.0;  // of the untrained model (not computed when resuming)
+  std::optional<double> initial_validation_nll;  // of the untrained model (none when resuming)
   int best_epoch = 0;
   double best_validation_error = 0.0;
   double constant_velocity_validation_error = 0.0;  // the same graphs predicted at constant velocity
