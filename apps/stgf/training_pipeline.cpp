@@ -284,15 +284,19 @@ void train_model(ModelTraining options) {
     throw std::runtime_error("no epoch gave a finite validation error: nothing written, " + options.out + " unchanged");
   }
   const Matrix3d& q = report.process_noise;
-  if (report.initial_validation_nll) {
-    spdlog::info("validation NLL of the untrained model: {:.3f} (the mean negative log-likelihood of the validation "
-                 "targets under the prediction and its covariance)",
-                 *report.initial_validation_nll);
+  // The NLL (mean negative log-likelihood of the validation targets under the prediction and its
+  // covariance) of the best epoch, and of the untrained model (none when resuming).
+  std::string likelihood;
+  for (const EpochReport& epoch : report.epochs) {
+    if (epoch.epoch == report.best_epoch) likelihood = fmt::format("; validation NLL {:.3f}", epoch.validation_nll);
   }
-  spdlog::info("best epoch {}: validation error {:.4f} m (constant velocity: {:.4f} m{}); Q at Δt = {:.3f} s: "
+  if (!likelihood.empty() && report.initial_validation_nll) {
+    likelihood += fmt::format(" (untrained: {:.3f})", *report.initial_validation_nll);
+  }
+  spdlog::info("best epoch {}: validation error {:.4f} m (constant velocity: {:.4f} m{}){}; Q at Δt = {:.3f} s: "
                "diag({:.3g}, {:.3g}, {:.3g}) m²",
                report.best_epoch, report.best_validation_error, report.constant_velocity_validation_error,
-               with_truth ? "" : ", both against the fused measurements, whose own noise they include",
+               with_truth ? "" : ", both against the fused measurements, whose own noise they include", likelihood,
                report.process_noise_period, q(0, 0), q(1, 1), q(2, 2));
   if (source == HistorySource::kFused) calibrate_in_filter(working.path(), validation, registration, options.rotate);
   MotionModel::load(working.path());  // finite weights of the stated shape, or InputError
