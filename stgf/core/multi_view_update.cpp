@@ -42,7 +42,9 @@ std::vector<Gaussian3> fused_measurement_of_rows(std::span<const Measurement> me
         group_of_object.emplace(object, groups.size());
         groups.push_back(sum.solve());
       }
-      for (const std::size_t row : step.rows) group_of_row[row] = group_of_object.at(measurements[row].object);
+      for (const std::size_t row : step.rows) {
+        group_of_row[row] = group_of_object.at(measurements[row].object);
+      }
     }
   }
   std::vector<Gaussian3> fused;

@@ -22,7 +22,8 @@ struct GroupStatistics {
   Eigen::MatrixXd a;
   Eigen::VectorXd b;
   explicit GroupStatistics(Eigen::Index views = 1)
-      : a(Eigen::MatrixXd::Zero(kOffsetSize * views, kOffsetSize * views)), b(Eigen::VectorXd::Zero(kOffsetSize * views)) {}
+      : a(Eigen::MatrixXd::Zero(kOffsetSize * views, kOffsetSize * views)),
+        b(Eigen::VectorXd::Zero(kOffsetSize * views)) {}
 };
 
 constexpr double kLowest = -4.0;                            // log10 of the smallest σ or α
@@ -40,7 +41,8 @@ double log_likelihood(const std::vector<GroupStatistics>& groups, const Paramete
     posterior_information.diagonal() += prior_information.replicate(views, 1);
     const Eigen::LLT<Eigen::MatrixXd> factor(posterior_information);
     const double log_det = 2.0 * factor.matrixLLT().diagonal().array().log().sum();
-    total -= 0.5 * (-group.b.dot(factor.solve(group.b)) + log_det - static_cast<double>(views) * log_det_prior);
+    total -=
+        0.5 * (-group.b.dot(factor.solve(group.b)) + log_det - static_cast<double>(views) * log_det_prior);
   }
   return total;
 }
@@ -105,7 +107,8 @@ RegistrationCalibration calibrate_registration_prior(std::span<const Measurement
   for (std::size_t k = 0; k < measurements.size(); ++k) {
     const Measurement& measurement = measurements[k];
     const Eigen::Matrix<double, 3, kOffsetSize> jacobian = jacobian_of(measurement);
-    const Eigen::Matrix<double, kOffsetSize, 3> weighted = jacobian.transpose() * measurement.position.information();
+    const Eigen::Matrix<double, kOffsetSize, 3> weighted =
+        jacobian.transpose() * measurement.position.information();
     GroupStatistics& group = by_group.try_emplace({measurement.scene, measurement.view}).first->second;
     group.a.noalias() += weighted * jacobian;
     group.b.noalias() += weighted * (measurement.position.mean() - truth[k]);
@@ -116,7 +119,8 @@ RegistrationCalibration calibrate_registration_prior(std::span<const Measurement
   return maximise_likelihood(groups);
 }
 
-RegistrationCalibration calibrate_registration_prior_from_disagreements(std::span<const Measurement> measurements) {
+RegistrationCalibration calibrate_registration_prior_from_disagreements(
+    std::span<const Measurement> measurements) {
   std::vector<GroupStatistics> groups;
   for (const Scene& scene : group_into_scenes(measurements)) {
     // The scene's views, in order of first appearance: view u's offset is β[6u, 6u + 6).
@@ -159,7 +163,8 @@ RegistrationCalibration calibrate_registration_prior_from_disagreements(std::spa
         const Eigen::LLT<Matrix3d> total(information_sum);
         const Vector3d mean = total.solve(weighted_sum);  // S⁻¹ y
         for (std::size_t i = 0; i < k; ++i) {
-          const Eigen::Matrix<double, 3, kOffsetSize> spread = total.solve(weighted_jacobian[i]);  // S⁻¹ W_i H_i
+          const Eigen::Matrix<double, 3, kOffsetSize> spread =
+              total.solve(weighted_jacobian[i]);  // S⁻¹ W_i H_i
           group.b.segment<kOffsetSize>(column[i]).noalias() -= weighted_jacobian[i].transpose() * mean;
           for (std::size_t j = 0; j < k; ++j) {
             group.a.block<kOffsetSize, kOffsetSize>(column[j], column[i]).noalias() -=

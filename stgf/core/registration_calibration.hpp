@@ -38,6 +38,7 @@ RegistrationCalibration calibrate_registration_prior(std::span<const Measurement
 // relative offsets, under the same assumption as above: every view's offset is drawn from it
 // independently. Scenes where no two views ever measure an object at one time (views on their own
 // clocks) carry no evidence: groups counts the scenes that do.
-RegistrationCalibration calibrate_registration_prior_from_disagreements(std::span<const Measurement> measurements);
+RegistrationCalibration calibrate_registration_prior_from_disagreements(
+    std::span<const Measurement> measurements);
 
 }  // namespace stgf

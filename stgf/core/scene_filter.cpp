@@ -409,8 +409,9 @@ const ProcessNoiseScale& SceneFilter::followed_scale() const {
   return follows_constant_velocity() ? state_.motion_choice.fallback_scale() : state_.process_noise_scale;
 }
 
-void SceneFilter::learn_motion(bool constant_velocity, const Vector3d& innovation, const Matrix3d& known_covariance,
-                               const Matrix3d& process_noise, const Vector3d& displacement_difference) {
+void SceneFilter::learn_motion(bool constant_velocity, const Vector3d& innovation,
+                               const Matrix3d& known_covariance, const Matrix3d& process_noise,
+                               const Vector3d& displacement_difference) {
   const Vector3d other = innovation + displacement_difference;
   const Vector3d& learned = constant_velocity ? other : innovation;
   const Vector3d& fallback = constant_velocity ? innovation : other;
@@ -495,7 +496,8 @@ void SceneFilter::process_joint(Event& event) {
       const auto passed = std::find(decision.passes.begin(), decision.passes.end(), true);
       if (passed != decision.passes.end()) {
         const JointRegistration::Innovation& innovation = innovations[static_cast<std::size_t>(passed - decision.passes.begin())];
-        learn_motion(constant_velocity, innovation.value, innovation.covariance - motion->covariance, motion->process_noise,
+        learn_motion(constant_velocity, innovation.value, innovation.covariance - motion->covariance,
+                     motion->process_noise,
                      motion->displacement - track.displacement_to(time, !constant_velocity));
       }
     }

@@ -247,8 +247,8 @@ class SceneFilter {
   // event's start: the choice may switch part-way through the event's samples), the innovation ν of
   // the motion followed, A = P̂_s + R, Q(τ) − Q(τ_s), and d_followed − d_other, the two motions'
   // displacements (the other's innovation is ν + that).
-  void learn_motion(bool constant_velocity, const Vector3d& innovation, const Matrix3d& known_covariance, const Matrix3d& process_noise,
-                    const Vector3d& displacement_difference);
+  void learn_motion(bool constant_velocity, const Vector3d& innovation, const Matrix3d& known_covariance,
+                    const Matrix3d& process_noise, const Vector3d& displacement_difference);
   // A release of a view's offset that add() found (view_noise_scales.hpp): applied now, or scheduled
   // from when the shift began and the filter set to go back there.
   void schedule_release(const std::string& view, const ViewNoiseScales::Release& release, double time);

@@ -12,13 +12,14 @@ namespace {
 constexpr double kProcessNoiseFloor = 1e-6;  // m², as in training
 
 struct Residual {
-  Vector3d error;            // y − x
+  Vector3d error;             // y − x
   Matrix3d known_covariance;  // P̂_last + P_y
   double dt;
 };
 
 std::vector<Residual> filter_residuals(const MotionModel& model, const RegistrationPrior& registration,
-                                       std::span<const Measurement> measurements, std::span<const Vector3d> targets,
+                                       std::span<const Measurement> measurements,
+                                       std::span<const Vector3d> targets,
                                        std::span<const Matrix3d> target_covariances) {
   std::vector<Residual> residuals;
   FilterOptions options;
@@ -32,8 +33,9 @@ std::vector<Residual> filter_residuals(const MotionModel& model, const Registrat
   for (std::size_t row = 0; row < measurements.size(); ++row) {
     const auto& prediction = run.predictions[row];
     if (!prediction || prediction->history_positions < 2 || !(prediction->interval > 0.0)) continue;
-    const Matrix3d known = target_covariances.empty() ? prediction->state_covariance
-                                                      : Matrix3d(prediction->state_covariance + target_covariances[row]);
+    const Matrix3d known = target_covariances.empty()
+                               ? prediction->state_covariance
+                               : Matrix3d(prediction->state_covariance + target_covariances[row]);
     residuals.push_back({targets[row] - prediction->prior.mean(), known, prediction->interval});
   }
   return residuals;
@@ -49,11 +51,13 @@ FilterCalibration calibrate_filter_process_noise(MotionModel& model, const Regis
   if (rounds < 1) throw std::invalid_argument("calibrate_filter_process_noise: rounds must be at least 1");
   if (measurements.size() != targets.size() ||
       (!target_covariances.empty() && target_covariances.size() != targets.size())) {
-    throw std::invalid_argument("calibrate_filter_process_noise: one target position (and covariance) per measurement");
+    throw std::invalid_argument(
+        "calibrate_filter_process_noise: one target position (and covariance) per measurement");
   }
   FilterCalibration calibration;
   for (int round = 0; round < rounds; ++round) {
-    const std::vector<Residual> residuals = filter_residuals(model, registration, measurements, targets, target_covariances);
+    const std::vector<Residual> residuals =
+        filter_residuals(model, registration, measurements, targets, target_covariances);
     if (residuals.empty()) throw std::invalid_argument("no prediction from a track of two or more positions to calibrate Q on");
     if (round == 0) {
       std::vector<double> intervals;

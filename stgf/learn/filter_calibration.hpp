@@ -48,7 +48,7 @@ struct FilterCalibration {
 FilterCalibration calibrate_filter_process_noise(MotionModel& model, const RegistrationPrior& registration,
                                                  std::span<const Measurement> measurements,
                                                  std::span<const Vector3d> targets,
-                                                 std::span<const Matrix3d> target_covariances = {}, int rounds = 5,
-                                                 bool any_heading = false);
+                                                 std::span<const Matrix3d> target_covariances = {},
+                                                 int rounds = 5, bool any_heading = false);
 
 }  // namespace stgf

@@ -61,8 +61,9 @@ std::vector<MotionGraph> graphs_of(const std::vector<const TrainingGraph*>& grap
 // The graph with its history replaced by truth + N(0, P_k) for each history point.
 TrainingGraph with_matched_noise(const TrainingGraph& source, std::mt19937_64& random) {
   if (source.true_histories.size() != source.targets.size()) {
-    throw std::invalid_argument("training histories of truth with matched noise need the truth: train on the "
-                                "histories as observed without it");
+    throw std::invalid_argument(
+        "training histories of truth with matched noise need the truth: train on the "
+        "histories as observed without it");
   }
   std::normal_distribution<double> normal;
   TrainingGraph noisy = source;
@@ -103,7 +104,8 @@ void check_graphs(const std::vector<TrainingGraph>& graphs, const char* name) {
       return size == graph.targets.size() || (may_be_empty && size == 0);
     };
     if (graph.targets.size() != graph.graph.objects.size() || !matches(graph.true_histories.size(), true) ||
-        !matches(graph.target_covariances.size(), true) || !matches(graph.history_covariances.size(), false)) {
+        !matches(graph.target_covariances.size(), true) ||
+        !matches(graph.history_covariances.size(), false)) {
       throw std::invalid_argument(std::string(name) + " graphs: targets and histories do not match the objects");
     }
     objects += graph.targets.size();
@@ -242,7 +244,8 @@ TrainingReport train_motion_model(const std::vector<TrainingGraph>& train, const
     for (const auto& chosen : validation_batches) {
       const std::vector<MotionGraph> graphs = graphs_of(chosen);
       const detail::MotionBatch batch = detail::make_motion_batch(graphs, impl.shape, impl.normalisation);
-      const std::vector<std::vector<Vector3d>> predicted = impl.positions_from(batch, impl.network->forward(batch));
+      const std::vector<std::vector<Vector3d>> predicted =
+          impl.positions_from(batch, impl.network->forward(batch));
       for (std::size_t g = 0; g < chosen.size(); ++g) {
         const TrainingGraph& graph = *chosen[g];
         for (std::size_t i = 0; i < graph.targets.size(); ++i) {
@@ -250,8 +253,8 @@ TrainingReport train_motion_model(const std::vector<TrainingGraph>& train, const
           result.error += residual.norm();
           residual_moment += residual * residual.transpose();
           residuals.push_back(residual);
-          known.push_back(graph.history_covariances[i].back() +
-                          (graph.target_covariances.empty() ? Matrix3d::Zero() : graph.target_covariances[i]));
+          const Matrix3d target = graph.target_covariances.empty() ? Matrix3d::Zero() : graph.target_covariances[i];
+          known.push_back(graph.history_covariances[i].back() + target);
         }
       }
     }
@@ -323,8 +326,8 @@ TrainingReport train_motion_model(const std::vector<TrainingGraph>& train, const
     if (report.diverged_epoch != 0) break;
 
     const Validation validated = validate();
-    EpochReport epoch_report{epoch,        loss_sum / std::max(1, batches), validated.error,
-                             validated.nll, elapsed() - epoch_start};
+    EpochReport epoch_report{epoch, loss_sum / std::max(1, batches), validated.error, validated.nll,
+                             elapsed() - epoch_start};
     if (!std::isfinite(epoch_report.validation_error)) {
       report.diverged_epoch = epoch;
       report.diverged_batch = 0;

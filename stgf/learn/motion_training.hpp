@@ -25,8 +25,8 @@
 #include <string>
 #include <vector>
 
-#include "stgf/model/motion_graphs.hpp"
 #include "stgf/learn/motion_model.hpp"
+#include "stgf/model/motion_graphs.hpp"
 
 namespace stgf {
 

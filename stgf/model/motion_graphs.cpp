@@ -378,7 +378,8 @@ class GraphBuilder {
 
 MotionGraphSet make_motion_graph_set(std::span<const Measurement> measurements, HistorySource source,
                                      int history_length, double max_gap) {
-  Output output = GraphBuilder(measurements, source, history_length, Targets::kNone, nullptr, true, max_gap).build();
+  Output output =
+      GraphBuilder(measurements, source, history_length, Targets::kNone, nullptr, true, max_gap).build();
   MotionGraphSet set;
   set.graphs.reserve(output.graphs.size());
   for (TrainingGraph& graph : output.graphs) set.graphs.push_back(std::move(graph.graph));
@@ -401,7 +402,9 @@ std::vector<TrainingGraph> make_training_graphs(std::span<const Measurement> mea
 
 std::vector<TrainingGraph> make_measured_training_graphs(std::span<const Measurement> measurements,
                                                          HistorySource source, int history_length) {
-  return GraphBuilder(measurements, source, history_length, Targets::kMeasured, nullptr, false).build().graphs;
+  return GraphBuilder(measurements, source, history_length, Targets::kMeasured, nullptr, false)
+      .build()
+      .graphs;
 }
 
 }  // namespace stgf

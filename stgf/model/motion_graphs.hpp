@@ -65,10 +65,11 @@ namespace stgf {
 // or (without truth) what was measured there.
 struct TrainingGraph {
   MotionGraph graph;
-  std::vector<Vector3d> targets;                        // position at target_time, per object
+  std::vector<Vector3d> targets;  // position at target_time, per object
   // The targets' covariances when they were measured (per object); empty for the truth (exact).
   std::vector<Matrix3d> target_covariances;
-  std::vector<std::vector<Vector3d>> true_histories;    // true positions at the history times; empty without truth
+  // True positions at the history times (per object); empty without truth.
+  std::vector<std::vector<Vector3d>> true_histories;
   std::vector<std::vector<Matrix3d>> history_covariances;  // covariance of each history position
 };
 
