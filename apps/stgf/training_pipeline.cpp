@@ -9,6 +9,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <iterator>
+#include <memory>
 #include <optional>
 #include <span>
 #include <stdexcept>
@@ -17,13 +18,14 @@
 #include <spdlog/spdlog.h>
 
 #include "input_guard.hpp"
-#include "stgf/core/multi_view_update.hpp"
 #include "stgf/core/registration_calibration.hpp"
 #include "stgf/core/steps.hpp"
 #include "stgf/io/input_error.hpp"
 #include "stgf/io/measurement_file.hpp"
 #include "stgf/io/truth_file.hpp"
 #include "stgf/learn/filter_calibration.hpp"
+#include "stgf/methods/run_method.hpp"
+#include "stgf/methods/weighted_least_squares.hpp"
 #include "stgf/model/motion_graphs.hpp"
 #include "stgf/model/registration_metadata.hpp"
 
@@ -79,7 +81,9 @@ Split read_split(const std::string& folder, HistorySource source, int history_le
       split.target_of_row.push_back(*index->find(row.scene, row.time, row.object));
     }
   } else {
-    for (const Gaussian3& fused : fused_measurement_of_rows(measurements.rows)) {
+    // What was measured of each row's object at its time: the `wls` estimate (no gate).
+    const auto wls = [] { return std::make_unique<WeightedLeastSquares>(); };
+    for (const Gaussian3& fused : run_localizer(wls, measurements.rows)) {
       split.target_of_row.push_back(fused.mean());
       split.target_covariance_of_row.push_back(fused.covariance());
     }

@@ -1,11 +1,7 @@
 // SPDX-License-Identifier: Apache-2.0
 #include "stgf/core/multi_view_update.hpp"
 
-#include <map>
 #include <stdexcept>
-#include <string_view>
-
-#include "stgf/core/steps.hpp"
 
 namespace stgf {
 
@@ -28,29 +24,6 @@ Gaussian3 information_weighted_mean(std::span<const Gaussian3> measurements) {
   InformationSum sum;
   for (const Gaussian3& measurement : measurements) sum.add(measurement);
   return sum.solve();
-}
-
-std::vector<Gaussian3> fused_measurement_of_rows(std::span<const Measurement> measurements) {
-  std::vector<Gaussian3> groups;  // one per (scene, step, object)
-  std::vector<std::size_t> group_of_row(measurements.size());
-  for (const Scene& scene : group_into_scenes(measurements)) {
-    for (const Step& step : scene.steps) {
-      std::map<std::string_view, InformationSum> sums;  // by object
-      for (const std::size_t row : step.rows) sums[measurements[row].object].add(measurements[row].position);
-      std::map<std::string_view, std::size_t> group_of_object;
-      for (const auto& [object, sum] : sums) {
-        group_of_object.emplace(object, groups.size());
-        groups.push_back(sum.solve());
-      }
-      for (const std::size_t row : step.rows) {
-        group_of_row[row] = group_of_object.at(measurements[row].object);
-      }
-    }
-  }
-  std::vector<Gaussian3> fused;
-  fused.reserve(measurements.size());
-  for (const std::size_t group : group_of_row) fused.push_back(groups[group]);
-  return fused;
 }
 
 MultiViewGains multi_view_gains(const Gaussian3& prior, std::span<const Gaussian3> measurements) {

@@ -21,7 +21,6 @@
 #include <vector>
 
 #include "stgf/core/gaussian.hpp"
-#include "stgf/core/records.hpp"
 
 namespace stgf {
 
@@ -50,10 +49,6 @@ Gaussian3 multi_view_update(const Gaussian3& prior, std::span<const Gaussian3> m
 // The information-weighted mean of one or more measurements: N((Σ R_u⁻¹)⁻¹ Σ R_u⁻¹ z_u, (Σ R_u⁻¹)⁻¹).
 // Throws std::invalid_argument when `measurements` is empty.
 Gaussian3 information_weighted_mean(std::span<const Gaussian3> measurements);
-
-// For every row, the information-weighted mean of all the rows of its scene, object and step (the
-// `wls` estimate, steps as group_into_scenes makes them): what was measured of the object then.
-std::vector<Gaussian3> fused_measurement_of_rows(std::span<const Measurement> measurements);
 
 // The gains of the paper, for inspection and tests; multi_view_update does not need them.
 struct MultiViewGains {

@@ -15,7 +15,7 @@ namespace stgf {
 namespace {
 
 using Parameters = std::array<double, 4>;  // log10 of σ_x, σ_y, σ_z, α
-constexpr int kOffsetSize = 6;
+constexpr int kOffsetSize = ViewRegistration::kOffsetSize;
 
 // A group's evidence on the offsets β of its views (6 coordinates per view): information A, vector b.
 struct GroupStatistics {
@@ -63,14 +63,6 @@ double best_on_grid(const std::vector<GroupStatistics>& groups, Parameters param
   return best_value;
 }
 
-// H = [I₃ L], L the lower Cholesky factor of R.
-Eigen::Matrix<double, 3, kOffsetSize> jacobian_of(const Measurement& measurement) {
-  Eigen::Matrix<double, 3, kOffsetSize> jacobian;
-  jacobian.leftCols<3>().setIdentity();
-  jacobian.rightCols<3>() = measurement.position.covariance().llt().matrixL();
-  return jacobian;
-}
-
 // The four parameters that maximise the groups' marginal likelihood.
 RegistrationCalibration maximise_likelihood(const std::vector<GroupStatistics>& groups) {
   RegistrationCalibration result;
@@ -106,7 +98,7 @@ RegistrationCalibration calibrate_registration_prior(std::span<const Measurement
   std::map<std::pair<std::string, std::string>, GroupStatistics> by_group;
   for (std::size_t k = 0; k < measurements.size(); ++k) {
     const Measurement& measurement = measurements[k];
-    const Eigen::Matrix<double, 3, kOffsetSize> jacobian = jacobian_of(measurement);
+    const Eigen::Matrix<double, 3, kOffsetSize> jacobian = offset_jacobian(measurement.position.covariance());
     const Eigen::Matrix<double, kOffsetSize, 3> weighted =
         jacobian.transpose() * measurement.position.information();
     GroupStatistics& group = by_group.try_emplace({measurement.scene, measurement.view}).first->second;
@@ -150,7 +142,7 @@ RegistrationCalibration calibrate_registration_prior_from_disagreements(
         for (std::size_t j = 0; j < k; ++j) {
           const Measurement& measurement = measurements[rows[j]];
           const Matrix3d& information = measurement.position.information();
-          const Eigen::Matrix<double, 3, kOffsetSize> jacobian = jacobian_of(measurement);
+          const Eigen::Matrix<double, 3, kOffsetSize> jacobian = offset_jacobian(measurement.position.covariance());
           weighted_jacobian[j] = information * jacobian;
           column[j] = kOffsetSize * view_index.at(measurement.view);
           information_sum += information;

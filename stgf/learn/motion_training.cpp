@@ -207,8 +207,11 @@ TrainingReport train_motion_model(const std::vector<TrainingGraph>& train, const
   report.validation_objects = count_objects(validation);
   report.constant_velocity_validation_error = constant_velocity_error(validation);
 
-  // Validation batches are fixed; so are E[P_last] + E[P_target] and the reference period for Q.
+  // Validation batches are fixed; so are each object's P_last + P_target (in validation order), their
+  // mean and the reference period for Q.
   std::vector<std::vector<const TrainingGraph*>> validation_batches;
+  std::vector<Matrix3d> known_covariances;
+  known_covariances.reserve(report.validation_objects);
   Matrix3d mean_known_covariance = Matrix3d::Zero();
   std::vector<double> horizons;
   for (std::size_t g = 0; g < validation.size(); ++g) {
@@ -216,8 +219,14 @@ TrainingReport train_motion_model(const std::vector<TrainingGraph>& train, const
     validation_batches.back().push_back(&validation[g]);
     const TrainingGraph& graph = validation[g];
     for (std::size_t i = 0; i < graph.targets.size(); ++i) {
-      mean_known_covariance += graph.history_covariances[i].back();
-      if (!graph.target_covariances.empty()) mean_known_covariance += graph.target_covariances[i];
+      const Matrix3d& last = graph.history_covariances[i].back();
+      mean_known_covariance += last;
+      if (graph.target_covariances.empty()) {
+        known_covariances.push_back(last);
+      } else {
+        mean_known_covariance += graph.target_covariances[i];
+        known_covariances.push_back(last + graph.target_covariances[i]);
+      }
       horizons.push_back(graph.graph.target_time - graph.graph.objects[i].times.back());
     }
   }
@@ -238,9 +247,7 @@ TrainingReport train_motion_model(const std::vector<TrainingGraph>& train, const
     Validation result;
     Matrix3d residual_moment = Matrix3d::Zero();
     std::vector<Vector3d> residuals;
-    std::vector<Matrix3d> known;
     residuals.reserve(report.validation_objects);
-    known.reserve(report.validation_objects);
     for (const auto& chosen : validation_batches) {
       const std::vector<MotionGraph> graphs = graphs_of(chosen);
       const detail::MotionBatch batch = detail::make_motion_batch(graphs, impl.shape, impl.normalisation);
@@ -253,8 +260,6 @@ TrainingReport train_motion_model(const std::vector<TrainingGraph>& train, const
           result.error += residual.norm();
           residual_moment += residual * residual.transpose();
           residuals.push_back(residual);
-          const Matrix3d target = graph.target_covariances.empty() ? Matrix3d::Zero() : graph.target_covariances[i];
-          known.push_back(graph.history_covariances[i].back() + target);
         }
       }
     }
@@ -263,7 +268,7 @@ TrainingReport train_motion_model(const std::vector<TrainingGraph>& train, const
     result.process_noise = calibrated_process_noise(residual_moment / n, mean_known_covariance);
     if (options.rotate) result.process_noise = averaged_over_headings(result.process_noise);
     for (std::size_t k = 0; k < residuals.size(); ++k) {
-      const Eigen::LDLT<Matrix3d> covariance(known[k] + result.process_noise);
+      const Eigen::LDLT<Matrix3d> covariance(known_covariances[k] + result.process_noise);
       result.nll += 0.5 * (residuals[k].dot(covariance.solve(residuals[k])) +
                            covariance.vectorD().array().log().sum() + 3.0 * std::log(2.0 * std::numbers::pi));
     }

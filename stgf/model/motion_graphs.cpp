@@ -291,23 +291,19 @@ class GraphBuilder {
     if (latest_covariances_) {
       output_.latest_covariances[graph_index].push_back(position_of(history.back()).covariance());
     }
+    if (targets_ == Targets::kNone) return;
+    std::vector<Matrix3d>& covariances = graph.history_covariances.emplace_back();
+    covariances.reserve(history.size());
+    for (const HistoryEntry& entry : history) covariances.push_back(position_of(entry).covariance());
     if (targets_ == Targets::kMeasured) {
       graph.targets.push_back(position_of(target).mean());
       graph.target_covariances.push_back(position_of(target).covariance());
-      std::vector<Matrix3d>& covariances = graph.history_covariances.emplace_back();
-      covariances.reserve(history.size());
-      for (const HistoryEntry& entry : history) covariances.push_back(position_of(entry).covariance());
-    } else if (targets_ == Targets::kTruth) {
-      graph.targets.push_back(true_position(sighting, sighting));
-      std::vector<Vector3d>& true_history = graph.true_histories.emplace_back();
-      std::vector<Matrix3d>& covariances = graph.history_covariances.emplace_back();
-      true_history.reserve(history.size());
-      covariances.reserve(history.size());
-      for (const HistoryEntry& entry : history) {
-        true_history.push_back(true_position(entry.sighting, sighting));
-        covariances.push_back(position_of(entry).covariance());
-      }
+      return;
     }
+    graph.targets.push_back(true_position(sighting, sighting));
+    std::vector<Vector3d>& true_history = graph.true_histories.emplace_back();
+    true_history.reserve(history.size());
+    for (const HistoryEntry& entry : history) true_history.push_back(true_position(entry.sighting, sighting));
   }
 
   // The truth of `sighting`'s object at its step (looked up once), needed by the graph of `needed_by`.

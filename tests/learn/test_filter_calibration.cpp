@@ -7,13 +7,15 @@
 
 #include <Eigen/Eigenvalues>
 #include <cmath>
+#include <memory>
 #include <random>
 #include <stdexcept>
 #include <string>
 #include <vector>
 
-#include "stgf/core/multi_view_update.hpp"
 #include "stgf/learn/filter_calibration.hpp"
+#include "stgf/methods/run_method.hpp"
+#include "stgf/methods/weighted_least_squares.hpp"
 #include "support/tiny_motion_model.hpp"
 
 namespace stgf {
@@ -111,7 +113,8 @@ TEST(FilterCalibration, TheFusedMeasurementsStandInForTheTruth) {
       calibrate_filter_process_noise(against_truth, RegistrationPrior{}, scenes.measurements, scenes.truth, {}, 5);
   std::vector<Vector3d> targets;
   std::vector<Matrix3d> covariances;
-  for (const Gaussian3& fused : fused_measurement_of_rows(scenes.measurements)) {
+  const auto wls = [] { return std::make_unique<WeightedLeastSquares>(); };
+  for (const Gaussian3& fused : run_localizer(wls, scenes.measurements)) {
     targets.push_back(fused.mean());
     covariances.push_back(fused.covariance());
   }
