@@ -61,10 +61,10 @@ struct HistoryEntry {
 
 // What a graph's objects are trained towards: nothing (graphs to run Φ on), the truth, or what was
 // measured (the target step's fused position, or the view's own measurement for kRawView).
-enum class Targets { kNone, kTruth, kMeasured };
+enum class Targets { kNothing, kTruth, kMeasured };
 
 struct Output {
-  std::vector<TrainingGraph> graphs;  // .graph always; the target fields unless Targets::kNone
+  std::vector<TrainingGraph> graphs;  // .graph always; the target fields unless Targets::kNothing
   std::vector<std::vector<Matrix3d>> latest_covariances;  // when asked for
   std::vector<std::optional<GraphObjectIndex>> predictor_of_row;
   std::size_t restarted_tracks = 0;
@@ -291,7 +291,7 @@ class GraphBuilder {
     if (latest_covariances_) {
       output_.latest_covariances[graph_index].push_back(position_of(history.back()).covariance());
     }
-    if (targets_ == Targets::kNone) return;
+    if (targets_ == Targets::kNothing) return;
     std::vector<Matrix3d>& covariances = graph.history_covariances.emplace_back();
     covariances.reserve(history.size());
     for (const HistoryEntry& entry : history) covariances.push_back(position_of(entry).covariance());
@@ -375,7 +375,7 @@ class GraphBuilder {
 MotionGraphSet make_motion_graph_set(std::span<const Measurement> measurements, HistorySource source,
                                      int history_length, double max_gap) {
   Output output =
-      GraphBuilder(measurements, source, history_length, Targets::kNone, nullptr, true, max_gap).build();
+      GraphBuilder(measurements, source, history_length, Targets::kNothing, nullptr, true, max_gap).build();
   MotionGraphSet set;
   set.graphs.reserve(output.graphs.size());
   for (TrainingGraph& graph : output.graphs) set.graphs.push_back(std::move(graph.graph));

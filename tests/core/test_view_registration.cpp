@@ -30,7 +30,7 @@ using testing::relative_difference;
 
 Measurement measurement(const std::string& view, const std::string& object, const Vector3d& z,
                         const Matrix3d& r, double time = 0.0) {
-  return Measurement{"s", time, view, object, Gaussian3::from_covariance(z, r), std::nullopt};
+  return Measurement{"s", time, view, object, Gaussian3::from_covariance(z, r), std::nullopt, std::nullopt};
 }
 
 std::vector<const Measurement*> pointers(const std::vector<Measurement>& rows) {

@@ -22,10 +22,9 @@ TEST(EstimateFile, WrittenFileReadsBackTheSame) {
   const std::vector<Estimate> rows = {
       {"s", 0.0, "v1", "o1", Gaussian3::from_covariance(Vector3d(1, 2, 3), covariance)},
       {"s", 0.1, "v2", "o1", Gaussian3::from_covariance(Vector3d(-1.5, 2.25, 0), 2.0 * covariance)}};
-  const std::string path = (std::filesystem::temp_directory_path() / "stgf_test_estimates.csv").string();
-  write_estimates(path, rows, "wls");
-  const EstimateFile file = read_estimates(path);
-  std::filesystem::remove(path);
+  const ScratchDirectory directory;
+  write_estimates(directory / "estimates.csv", rows, "wls");
+  const EstimateFile file = read_estimates(directory / "estimates.csv");
   ASSERT_EQ(file.rows.size(), 2u);
   EXPECT_EQ(file.methods, (std::vector<std::string>{"wls", "wls"}));
   EXPECT_EQ(file.lines, (std::vector<int>{2, 3}));

@@ -4,15 +4,12 @@
 
 #include "stgf/io/measurement_file.hpp"
 
-#include <filesystem>
-#include <fstream>
-#include <iterator>
-
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
 #include "stgf/io/input_error.hpp"
 #include "stgf/io/scene_order.hpp"
+#include "support/scratch_directory.hpp"
 
 namespace stgf {
 namespace {
@@ -218,13 +215,12 @@ TEST(MeasurementFile, ArrivalNotFinite) {
             "m.csv:2: column 'arrival': 'inf' is not finite");
 }
 
+// The text write_measurements writes for `rows` (in a scratch directory of its own: ctest runs the
+// tests of this file side by side).
 std::string written_text(const std::vector<Measurement>& rows) {
-  const std::string path = (std::filesystem::temp_directory_path() / "stgf_test_arrivals.csv").string();
-  write_measurements(path, rows);
-  std::ifstream input(path);
-  const std::string text((std::istreambuf_iterator<char>(input)), std::istreambuf_iterator<char>());
-  std::filesystem::remove(path);
-  return text;
+  const testing::ScratchDirectory directory;
+  write_measurements(directory / "measurements.csv", rows);
+  return testing::file_bytes(directory / "measurements.csv");
 }
 
 TEST(MeasurementFile, WritesArrivalsOnlyWhenEveryRowHasOne) {
@@ -259,10 +255,9 @@ TEST(MeasurementFile, WrittenFileReadsBackTheSame) {
        Vector3d(10, 20, 5), std::nullopt},
       {"scene, with comma", 0.2, "v1", "o1", Gaussian3::from_covariance(Vector3d(123456.789012, 0, 0), covariance),
        Vector3d(10, 20, 5), std::nullopt}};
-  const std::string path = (std::filesystem::temp_directory_path() / "stgf_test_measurements.csv").string();
-  write_measurements(path, rows);
-  const MeasurementFile file = read_measurements(path);
-  std::filesystem::remove(path);
+  const testing::ScratchDirectory directory;
+  write_measurements(directory / "measurements.csv", rows);
+  const MeasurementFile file = read_measurements(directory / "measurements.csv");
   ASSERT_EQ(file.rows.size(), 2u);
   for (std::size_t k = 0; k < rows.size(); ++k) {
     EXPECT_EQ(file.rows[k].scene, rows[k].scene);
