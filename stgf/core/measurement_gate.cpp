@@ -65,7 +65,8 @@ MeasurementGate::Consensus MeasurementGate::consensus(std::span<const Gaussian3>
 }
 
 MeasurementGate::Decision MeasurementGate::decide(std::span<const double> prediction_distances,
-                                                 std::span<const Gaussian3> alone, int gated_events) const {
+                                                 std::span<const Gaussian3> alone, int gated_events,
+                                                 int restart_after) const {
   const std::size_t n = alone.size();
   Decision decision = pass_all(n);
   if (!enabled_) return decision;
@@ -83,7 +84,7 @@ MeasurementGate::Decision MeasurementGate::decide(std::span<const double> predic
     const Consensus consensus = this->consensus(alone);
     const std::size_t agreeing = static_cast<std::size_t>(std::count(consensus.passes.begin(), consensus.passes.end(), true));
     const bool wrong_prediction = consensus.agreement && !decision.passes[consensus.anchor] && agreeing > passing;
-    if (wrong_prediction || (passing == 0 && gated_events + 1 >= kGatedEventsBeforeRestart)) {
+    if (wrong_prediction || (passing == 0 && gated_events + 1 >= restart_after)) {
       decision.restart = true;
       decision.anchor = consensus.anchor;
       decision.passes = consensus.passes;
@@ -92,6 +93,7 @@ MeasurementGate::Decision MeasurementGate::decide(std::span<const double> predic
   }
   const Consensus consensus = this->consensus(alone);
   decision.checked = n > 1;
+  decision.conflicting = n > 1 && !consensus.agreement;
   decision.anchor = consensus.anchor;
   decision.passes = consensus.passes;
   return decision;

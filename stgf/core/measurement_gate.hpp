@@ -11,19 +11,24 @@
 // gets in). A measurement that does not pass is counted per view and its row's estimate is the
 // object's estimate from the other measurements (or the prediction); nothing is silently dropped.
 //
-// Only predictions from two or more history positions are checked against (a velocity is known;
-// younger ones guess it). Without such a prediction (an object's first times, or `wls`, which has
-// none), the measurements of one object at one time are checked against each other: i and j agree when
+// Measurements are checked against a prediction from one history position or more (with one, the
+// velocity is unknown and the prediction's covariance says so). Without such a prediction (an
+// object's first time, or `wls`, which has none), the measurements of one object at one time are
+// checked against each other: i and j agree when
 //     (z_i − z_j)ᵀ (R_i + R_j)⁻¹ (z_i − z_j) ≤ γ.
 // The anchor is the measurement that agrees with the most others (the first of those in the given
 // order on a tie); the measurements that agree with it pass, the others do not. When no two agree,
-// nothing tells the faulty from the good, and all pass.
+// nothing tells the faulty from the good: all pass, and the decision says they conflict. Their
+// information-weighted mean would then sit near the most precise of them with the covariance of
+// agreeing measurements, however far off the others are; the filter widens it by their spread
+// (scene_filter.hpp) and learns nothing about the views from them.
 //
 // The prediction itself may be what is wrong (a track started from a gross error, a motion the model
 // did not foresee). The track starts again from the measurements' consensus (counted as a restart) at
 // once when the consensus fails against the prediction and holds more measurements than pass against
 // it; and when every measurement fails but no two agree (one view), once that has happened at
-// kGatedEventsBeforeRestart consecutive times; until then they are all left out.
+// `restart_after` consecutive times (kGatedEventsBeforeRestart for a track whose velocity is known, 1
+// for a younger one); until then they are all left out.
 
 #include <cstddef>
 #include <span>
@@ -68,17 +73,19 @@ class MeasurementGate {
   // Which of one object's measurements at one time are fused, as above. `prediction_distances`: d²
   // of each against the prediction, or empty when there is no prediction to check against. `alone`:
   // each measurement with its whole covariance, for the consensus. `gated_events`: the consecutive
-  // earlier times at which all failed against the prediction.
+  // earlier times at which all failed against the prediction; `restart_after`: how many such times in a
+  // row (this one included) start the track again.
   struct Decision {
     std::vector<bool> passes;
     bool restart = false;  // the track starts again from the passing ones
     std::size_t anchor = 0;  // with restart, or without a prediction: the measurement to start from
     bool checked = false;    // a check was made (a prediction, or two measurements or more)
+    bool conflicting = false;  // no prediction, two measurements or more, and no two of them agree
   };
   Decision decide(std::span<const double> prediction_distances, std::span<const Gaussian3> alone,
-                  int gated_events) const;
+                  int gated_events, int restart_after = kGatedEventsBeforeRestart) const;
   // What decide() gives without the gate: all `count` pass, nothing checked.
-  static Decision pass_all(std::size_t count) { return Decision{std::vector<bool>(count, true), false, 0, false}; }
+  static Decision pass_all(std::size_t count) { return Decision{std::vector<bool>(count, true), false, 0, false, false}; }
 
  private:
   bool enabled_;

@@ -102,6 +102,12 @@ class ObjectTrack {
   void count_gated_event() { ++gated_events_; }
   void reset_gated_events() { gated_events_ = 0; }
 
+  // A track started from measurements that conflict (measurement_gate.hpp) knows where the object is
+  // only as a mixture of them: its estimate says so, but it is no start for a velocity. The filter
+  // starts it again at the object's next time.
+  bool started_in_conflict() const { return started_in_conflict_; }
+  void mark_started_in_conflict() { started_in_conflict_ = true; }
+
   // Forgets everything: the object starts again as if never seen.
   void clear() { *this = ObjectTrack(); }
 
@@ -115,6 +121,7 @@ class ObjectTrack {
   std::optional<MotionForecast> forecast_;
   std::optional<double> frame_time_;
   int gated_events_ = 0;
+  bool started_in_conflict_ = false;
 };
 
 }  // namespace stgf

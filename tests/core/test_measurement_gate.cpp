@@ -58,10 +58,28 @@ TEST(MeasurementGate, DecidesAgainstThePredictionAndRestartsAWrongTrack) {
   EXPECT_EQ(gate.decide(std::vector<double>{100.0}, one, 0).passes, std::vector<bool>{false});
   EXPECT_FALSE(gate.decide(std::vector<double>{100.0}, one, kGatedEventsBeforeRestart - 2).restart);
   EXPECT_TRUE(gate.decide(std::vector<double>{100.0}, one, kGatedEventsBeforeRestart - 1).restart);
+  // A younger track (restart_after 1): the first failure starts it again.
+  EXPECT_TRUE(gate.decide(std::vector<double>{100.0}, one, 0, 1).restart);
   // No prediction: the consensus decides.
   decision = gate.decide({}, rows, 0);
   EXPECT_FALSE(decision.restart);
+  EXPECT_FALSE(decision.conflicting);
   EXPECT_EQ(decision.passes, (std::vector<bool>{true, true, false}));
+}
+
+// Two measurements of a new object that do not agree: both pass, and the decision says they conflict
+// (the filter then widens what it starts from them); with a prediction to check against, or one that
+// agrees, they do not.
+TEST(MeasurementGate, SaysWhenMeasurementsWithoutAPredictionConflict) {
+  const MeasurementGate gate(GateOptions{true, 0.999});
+  const std::vector<Gaussian3> two{at(5.0), at(0.0)};
+  MeasurementGate::Decision decision = gate.decide({}, two, 0);
+  EXPECT_TRUE(decision.conflicting);
+  EXPECT_EQ(decision.passes, (std::vector<bool>{true, true}));
+  EXPECT_FALSE(gate.decide(std::vector<double>{400.0, 1.0}, two, 0).conflicting);
+  EXPECT_FALSE(gate.decide({}, std::vector<Gaussian3>{at(0.05), at(0.0)}, 0).conflicting);
+  EXPECT_FALSE(gate.decide({}, std::vector<Gaussian3>{at(5.0)}, 0).conflicting);
+  EXPECT_FALSE(MeasurementGate(GateOptions{false, 0.999}).decide({}, two, 0).conflicting);
 }
 
 // Innovations of a view against the others' mean, with noise `factor` times what R states.
