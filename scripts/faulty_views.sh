@@ -88,11 +88,13 @@ done
   echo "  scale is learnt (and when a jump is found), \`ours\` goes back over its lag window and fuses what"
   echo "  came since again with it (design §1.12, level 4), so what the view taught the tracks and the"
   echo "  offsets before it was found does not stay. Rows estimated before keep their estimates."
-  echo "- Where a faulty view sees an object alone, nothing tells its fault from the truth. cad's"
-  echo "  validation split with v1 made faulty shows it: v1 sees many objects alone, and no method keeps"
-  echo "  DE near the clean run. There the gate even costs \`ours\` under understated noise: v1's"
-  echo "  measurements fail the gate against a prediction its own understated R made overconfident, and"
-  echo "  objects only it sees are left to the prediction until their tracks start again."
+  echo "- Where a faulty view sees an object alone, only the object's own track can tell its fault from"
+  echo "  the truth. cad's validation split with v1 made faulty shows it: v1 sees many objects alone."
+  echo "  Gross outliers are far from the track's prediction, and the gated \`ours\` stays near its clean"
+  echo "  run. A jump or understated noise is not told from the truth, and no method keeps DE near the"
+  echo "  clean run. There the gate even costs \`ours\` under understated noise: v1's measurements fail"
+  echo "  the gate against a prediction its own understated R made overconfident, and objects only it"
+  echo "  sees are left to the prediction until their tracks start again."
 } >> "$out/faulty-views.md"
 cp "$out/faulty-views.md" docs/faulty-views.md
 cat docs/faulty-views.md
