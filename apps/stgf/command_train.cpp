@@ -40,6 +40,13 @@ void add_train_command(CLI::App& app) {
       ->delimiter(',')
       ->capture_default_str()
       ->check(CLI::PositiveNumber);
+  command->add_option("--long-intervals", options->long_intervals,
+                      "also calibrate Q in the filter at intervals up to this many seconds (the validation split "
+                      "thinned out), so that tracks coast across missed frames and low frame rates instead of "
+                      "starting again (0: off, Q grows as the interval squared and tracks restart beyond the "
+                      "model's horizon)")
+      ->capture_default_str()
+      ->check(CLI::NonNegativeNumber);
   command->add_flag("--rotate", options->rotate,
                     "turn each training scene by a random heading every epoch, so that the model does not learn the "
                     "world frame's orientation");

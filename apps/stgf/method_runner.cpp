@@ -42,9 +42,21 @@ void log_method_report(const std::string& method, const MethodConfig& config, co
                  model_path);
   }
   if (report.restarted_tracks > report.gating.restarts) {
-    spdlog::info("{}: {} track(s) started again: the object had not been seen for longer than the model's horizon "
-                 "of {:.2f} s (twice the longest interval it trained on)",
-                 method, report.restarted_tracks - report.gating.restarts, model->prediction_horizon());
+    if (model->coasting_horizon() > model->prediction_horizon()) {
+      spdlog::info("{}: {} track(s) started again: the object had not been seen for longer than the {:.2f} s that "
+                   "the model's Q was calibrated to coast across (twice the longest interval it was calibrated at)",
+                   method, report.restarted_tracks - report.gating.restarts, model->coasting_horizon());
+    } else {
+      spdlog::info("{}: {} track(s) started again: the object had not been seen for longer than the model's horizon "
+                   "of {:.2f} s (twice the longest interval it trained on; `stgf train --long-intervals` calibrates "
+                   "Q for tracks to coast further by constant velocity)",
+                   method, report.restarted_tracks - report.gating.restarts, model->prediction_horizon());
+    }
+  }
+  if (report.coasting_predictions > 0) {
+    spdlog::info("{}: {} prediction(s) by constant velocity with the model's coasting Q: the object unseen for longer "
+                 "than the model's horizon of {:.2f} s, or its history spaced wider than {:.2f} s (1.25 times the longest interval it trained on)",
+                 method, report.coasting_predictions, model->prediction_horizon(), model->widest_history_spacing());
   }
   log_gating(method, config.ours.gate, report.gating);
   const MotionChoiceSummary& choice = report.motion_choice;

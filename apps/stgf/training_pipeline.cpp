@@ -172,7 +172,7 @@ void show_progress(const TrainingProgress& p, bool terminal, double& last_shown)
 
 // Q again, in the regime `ours` runs in: the filter over the validation split (filter_calibration.hpp).
 void calibrate_in_filter(const std::string& model_path, const Split& validation, const RegistrationPrior& registration,
-                         bool any_heading) {
+                         bool any_heading, double long_intervals) {
   const auto start = std::chrono::steady_clock::now();
   MotionModel model = MotionModel::load(model_path);
   const FilterCalibration calibration =
@@ -189,6 +189,28 @@ void calibrate_in_filter(const std::string& model_path, const Split& validation,
   nlohmann::json metadata = model.metadata();
   metadata["process_noise_calibration"] = {
       {"regime", "filter"}, {"split", "val"}, {"predictions", calibration.predictions}, {"rounds", rounds}};
+  if (long_intervals > 0.0) {
+    const std::vector<IntervalCalibration> intervals =
+        calibrate_process_noise_intervals(model, registration, validation.measurements, validation.target_of_row,
+                                          validation.target_covariance_of_row, long_intervals, any_heading);
+    nlohmann::json nodes = nlohmann::json::array();
+    for (const IntervalCalibration& node : intervals) {
+      const Matrix3d& q = node.process_noise;
+      spdlog::info("Q in the filter on the validation split every {} frames ({}): prediction error {:.4f} m, NEES "
+                   "{:.2f} -> Q at Δt = {:.3f} s: diag({:.3g}, {:.3g}, {:.3g}) m²",
+                   node.stride, node.coasting ? "constant velocity" : "Φ", node.prior_error, node.prior_nees,
+                   node.interval, q(0, 0), q(1, 1), q(2, 2));
+      nodes.push_back({{"interval_s", node.interval}, {"coasting", node.coasting}, {"predictions", node.predictions},
+                       {"prediction_error_m", node.prior_error}, {"prediction_nees", node.prior_nees}});
+    }
+    if (intervals.empty() || intervals.back().interval < long_intervals - 1e-9) {
+      spdlog::warn("Q calibrated up to {:.3f} s, not {:.3f} s: the validation scenes are too short (or too few) for "
+                   "{} predictions at longer intervals",
+                   intervals.empty() ? calibration.period : intervals.back().interval, long_intervals,
+                   kMinimumIntervalPredictions);
+    }
+    metadata["process_noise_calibration"]["intervals"] = nodes;
+  }
   save_recalibrated_model(model, model_path, metadata);
   spdlog::info("Q calibrated in the filter in {:.1f} s",
                std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
@@ -302,7 +324,7 @@ void train_model(ModelTraining options) {
                report.best_epoch, report.best_validation_error, report.constant_velocity_validation_error,
                with_truth ? "" : ", both against the fused measurements, whose own noise they include", likelihood,
                report.process_noise_period, q(0, 0), q(1, 1), q(2, 2));
-  if (source == HistorySource::kFused) calibrate_in_filter(working.path(), validation, registration, options.rotate);
+  if (source == HistorySource::kFused) calibrate_in_filter(working.path(), validation, registration, options.rotate, options.long_intervals);
   MotionModel::load(working.path());  // finite weights of the stated shape, or InputError
   working.move_to(options.out);
   spdlog::info("model written to {}", options.out);

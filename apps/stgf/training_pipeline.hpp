@@ -38,6 +38,8 @@ struct ModelTraining {
   // here (1 = as recorded), so it predicts at lower frame rates too.
   std::vector<int> strides = {1, 2, 3};
   bool rotate = false;  // turn each training graph by a random heading every epoch (MotionTrainingOptions::rotate)
+  // Q also calibrated at intervals up to this many seconds (calibrate_process_noise_intervals); 0: off.
+  double long_intervals = 0.0;
   MotionTrainingOptions training;
 };
 

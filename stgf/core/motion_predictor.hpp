@@ -53,6 +53,17 @@ class MotionPredictor {
   // trained on is not a prediction (a pedestrian model asked for 4 s ahead can be off by tens of
   // metres while its Q, fitted at a fraction of a second, says centimetres).
   virtual double prediction_horizon() const = 0;
+  // How long a track may go unseen before it starts again. Beyond prediction_horizon() and up to this,
+  // the track *coasts*: it is predicted by constant velocity from its history with
+  // coasting_process_noise(τ), calibrated for what constant velocity does over such intervals
+  // (process_noise_curve.hpp). By default no track coasts.
+  virtual double coasting_horizon() const { return prediction_horizon(); }
+  // A track whose last two history positions are further apart than this coasts too: its history is
+  // spaced wider than any the predictor learnt from (a lower frame rate than its training data's).
+  // Infinite by default.
+  virtual double widest_history_spacing() const { return std::numeric_limits<double>::infinity(); }
+  // Q(Δt) of a coasting track's constant-velocity forecast.
+  virtual Matrix3d coasting_process_noise(double dt) const { return process_noise(dt); }
 };
 
 // v = (p_n − p_{n−1}) / (t_n − t_{n−1}) from the last two positions (zero with one position), a = 0,

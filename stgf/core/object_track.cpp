@@ -25,16 +25,17 @@ Vector3d ObjectTrack::displacement_to(double time, bool constant_velocity) const
 ObjectTrack::Motion ObjectTrack::motion_to(double time, const MotionPredictor& predictor,
                                            const ProcessNoiseScale& scale, bool constant_velocity) const {
   if (empty()) throw std::logic_error("ObjectTrack::motion_to needs a track that is not empty");
-  if (needs_forecast()) throw std::logic_error("ObjectTrack::motion_to needs the forecast of the track's history");
+  const bool coasting = coasts_to(time, predictor);
+  if (needs_forecast() && !coasting) throw std::logic_error("ObjectTrack::motion_to needs the forecast of the track's history");
   const double state_time = state_->time;
   if (!(time > state_time)) throw std::logic_error("ObjectTrack::motion_to: time must follow the track's state");
   const double origin = forecast_origin();
   const double tau = time - origin;
   const double tau_state = state_time - origin;
   Motion motion;
-  motion.displacement = displacement_to(time, constant_velocity);
-  motion.process_noise = symmetrised(predictor.process_noise(tau) -
-                                     (tau_state > 0.0 ? predictor.process_noise(tau_state) : Matrix3d::Zero()));
+  motion.displacement = displacement_to(time, constant_velocity || coasting);
+  const auto q = [&](double t) { return coasting ? predictor.coasting_process_noise(t) : predictor.process_noise(t); };
+  motion.process_noise = symmetrised(q(tau) - (tau_state > 0.0 ? q(tau_state) : Matrix3d::Zero()));
   motion.covariance = scale.scaled(motion.process_noise);
   if (history_.size() <= 1) {  // no velocity yet: the unknown speed's spread
     const double speed = predictor.typical_speed();

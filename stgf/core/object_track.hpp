@@ -64,6 +64,17 @@ class ObjectTrack {
 
   // A forecast is needed before the next prediction: the history is not empty and has none.
   bool needs_forecast() const { return !history_.empty() && !forecast_.has_value(); }
+
+  // Beyond the predictor's horizon (more than prediction_horizon() since the state; up to its
+  // coasting_horizon(), after which the filter starts the track again), or with a history spaced wider
+  // than the predictor's widest_history_spacing(), a track *coasts*: it is predicted by constant
+  // velocity with the predictor's coasting Q (design §1.9). It needs no forecast.
+  bool coasts_to(double time, const MotionPredictor& predictor) const {
+    if (empty()) return false;
+    const std::size_t n = history_.size();
+    return time - state_->time > predictor.prediction_horizon() ||
+           (n >= 2 && history_[n - 1].time - history_[n - 2].time > predictor.widest_history_spacing());
+  }
   const std::optional<MotionForecast>& forecast() const { return forecast_; }
   void set_forecast(const MotionForecast& forecast) { forecast_ = forecast; }
 

@@ -270,9 +270,11 @@ void SceneFilter::start(Event& event) {
       continue;
     }
     ObjectTrack& track = state_.tracks[key_of(measurement)];
-    if (!track.empty() && event.time - track.state().time > predictor_.prediction_horizon()) {
+    if (!track.empty() && event.time - track.state().time > predictor_.coasting_horizon()) {
       track.clear();  // unseen for too long: starts again, like an object never seen
       ++state_.restarted_tracks;
+    } else if (track.coasts_to(event.time, predictor_)) {
+      ++state_.coasting_predictions;
     }
     event.tracks.push_back(TrackRows{k, &track});
   }
@@ -283,7 +285,7 @@ void SceneFilter::start(Event& event) {
 bool SceneFilter::request_forecasts(const Event& event) {
   std::vector<std::string> groups;  // track groups with a track that needs a forecast
   for (const TrackRows& rows : event.tracks) {
-    if (!rows.track->needs_forecast()) continue;
+    if (!rows.track->needs_forecast() || rows.track->coasts_to(event.time, predictor_)) continue;
     const std::string group = options_.tracks == TrackMode::kPerView ? event.rows[rows.first].measurement.view : std::string();
     if (std::find(groups.begin(), groups.end(), group) == groups.end()) groups.push_back(group);
   }
@@ -496,7 +498,8 @@ void SceneFilter::process_joint(Event& event) {
           Gaussian3::from_covariance(state.mean() + motion->displacement, state.covariance() + motion->covariance),
           state.covariance(), motion->process_noise, motion->interval, track.history().size()};
       // Innovations against the prediction: every row's for the gate, else the first row's to teach Q.
-      const bool teaches_process_noise = !track.has_frame() && learns_motion() && track.history().size() >= 2;
+      const bool teaches_process_noise = !track.has_frame() && learns_motion() && track.history().size() >= 2 &&
+                                         !track.coasts_to(time, predictor_);
       const bool gated = gate_.enabled() && gates_against_prediction(track);
       if (gated || teaches_process_noise) {
         for (const Row& row : rows) {
@@ -528,7 +531,8 @@ void SceneFilter::process_joint(Event& event) {
     }
     // The first fused measurement of a frame teaches the scale of Q, with its innovation against the
     // prediction.
-    if (!track.empty() && !track.has_frame() && track.history().size() >= 2 && learns_motion()) {
+    if (!track.empty() && !track.has_frame() && track.history().size() >= 2 && learns_motion() &&
+        !track.coasts_to(time, predictor_)) {
       const auto passed = std::find(decision.passes.begin(), decision.passes.end(), true);
       if (passed != decision.passes.end()) {
         const JointRegistration::Innovation& innovation = innovations[static_cast<std::size_t>(passed - decision.passes.begin())];
@@ -723,6 +727,7 @@ void SceneFilter::process(Event& event) {
     for (std::size_t t = 0; t < track_count; ++t) {
       ObjectTrack& track = state_.tracks[key_of(event.rows[first + t].measurement)];
       std::optional<TrackPrediction> prediction;
+      const bool coasting = track.coasts_to(time, predictor_);
       if (!track.empty()) prediction = track.predict(time, predictor_, scale, constant_velocity);
       if (!prediction && !combined) {
         // kPerView: this view's track is empty and every measurement failed the gate against another
@@ -737,7 +742,7 @@ void SceneFilter::process(Event& event) {
                               : registration ? multi_view_update(prediction->prior, std::span(&*combined, 1))
                                              : multi_view_update(prediction->prior, positions);
       const bool opens_frame = !track.has_frame();
-      if (opens_frame && prediction && combined && prediction->history_positions >= 2 && learns_motion() &&
+      if (opens_frame && prediction && combined && prediction->history_positions >= 2 && learns_motion() && !coasting &&
           !innovation) {
         innovation = Innovation{combined->mean() - prediction->prior.mean(),
                                 prediction->state_covariance + combined->covariance(), prediction->process_noise,

@@ -167,6 +167,8 @@ class SceneFilter {
   void take_results(std::vector<Result>& results);
 
   std::size_t restarted_tracks() const { return state_.restarted_tracks; }
+  // Predictions of tracks beyond the predictor's horizon, by constant velocity (ObjectTrack::coasts_to).
+  std::size_t coasting_predictions() const { return state_.coasting_predictions; }
   std::size_t late_measurements() const { return late_measurements_; }  // too late for the window
   std::size_t rewinds() const { return rewinds_; }                      // went back for a late measurement
   std::size_t refilters() const { return refilters_; }  // went back for a view's understated noise or jump
@@ -214,6 +216,7 @@ class SceneFilter {
     MotionChoice motion_choice;
     ViewNoiseScales view_noise;
     std::size_t restarted_tracks = 0;
+    std::size_t coasting_predictions = 0;
     std::size_t gate_restarts = 0;
     std::vector<std::size_t> applied_releases;  // indices into scheduled_releases_
   };

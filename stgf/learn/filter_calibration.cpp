@@ -2,7 +2,11 @@
 #include "stgf/learn/filter_calibration.hpp"
 
 #include <algorithm>
+#include <cmath>
+#include <map>
+#include <optional>
 #include <stdexcept>
+#include <string_view>
 
 #include "stgf/methods/filter_runner.hpp"
 
@@ -39,6 +43,71 @@ std::vector<Residual> filter_residuals(const MotionModel& model, const Registrat
     residuals.push_back({targets[row] - prediction->prior.mean(), known, prediction->interval});
   }
   return residuals;
+}
+
+// The rows of every s-th frame of each scene, frames counted in `period` from the scene's first time.
+struct Thinned {
+  std::vector<Measurement> measurements;
+  std::vector<Vector3d> targets;
+  std::vector<Matrix3d> target_covariances;
+};
+Thinned thinned(std::span<const Measurement> measurements, std::span<const Vector3d> targets,
+                std::span<const Matrix3d> target_covariances, double period, int stride) {
+  std::map<std::string_view, double> first_time;
+  for (const Measurement& row : measurements) {
+    const auto [it, added] = first_time.emplace(row.scene, row.time);
+    if (!added) it->second = std::min(it->second, row.time);
+  }
+  Thinned result;
+  for (std::size_t k = 0; k < measurements.size(); ++k) {
+    const Measurement& row = measurements[k];
+    const long long frame = std::llround((row.time - first_time.at(row.scene)) / period);
+    if (frame % stride != 0) continue;
+    result.measurements.push_back(row);
+    result.targets.push_back(targets[k]);
+    if (!target_covariances.empty()) result.target_covariances.push_back(target_covariances[k]);
+  }
+  return result;
+}
+
+// E[(τ/Δt)² (r rᵀ − known)] over the residuals within 25 % of τ, eigenvalues floored at 1e-6 m²
+// (averaged over headings with `any_heading`); nullopt with fewer than kMinimumIntervalPredictions.
+struct IntervalMoment {
+  Matrix3d moment;
+  std::size_t count;
+  double nees;
+  double error;
+};
+std::optional<IntervalMoment> interval_moment(const std::vector<Residual>& residuals, double tau,
+                                              const MotionModel& model, bool coasting, bool any_heading) {
+  Matrix3d sum = Matrix3d::Zero();
+  IntervalMoment result{Matrix3d::Zero(), 0, 0.0, 0.0};
+  for (const Residual& residual : residuals) {
+    if (std::abs(residual.dt - tau) > 0.25 * tau) continue;
+    const Matrix3d covariance = residual.known_covariance + (coasting ? model.coasting_process_noise(residual.dt)
+                                                                        : model.process_noise(residual.dt));
+    result.nees += residual.error.dot(covariance.ldlt().solve(residual.error));
+    result.error += residual.error.norm();
+    const double scale = (tau / residual.dt) * (tau / residual.dt);
+    sum += scale * (residual.error * residual.error.transpose() - residual.known_covariance);
+    ++result.count;
+  }
+  if (result.count < kMinimumIntervalPredictions) return std::nullopt;
+  const auto n = static_cast<double>(result.count);
+  result.nees /= n;
+  result.error /= n;
+  const Eigen::SelfAdjointEigenSolver<Matrix3d> eigen(symmetrised(sum / n));
+  const Vector3d floored = eigen.eigenvalues().cwiseMax(kProcessNoiseFloor);
+  result.moment = eigen.eigenvectors() * floored.asDiagonal() * eigen.eigenvectors().transpose();
+  if (any_heading) result.moment = averaged_over_headings(result.moment);
+  return result;
+}
+
+// `measured`, raised where it is below `previous`: previous + ⌊measured − previous⌋₊.
+Matrix3d at_least(const Matrix3d& measured, const Matrix3d& previous) {
+  const Eigen::SelfAdjointEigenSolver<Matrix3d> eigen(symmetrised(measured - previous));
+  const Vector3d positive = eigen.eigenvalues().cwiseMax(0.0);
+  return symmetrised(previous + eigen.eigenvectors() * positive.asDiagonal() * eigen.eigenvectors().transpose());
 }
 
 }  // namespace
@@ -91,6 +160,69 @@ FilterCalibration calibrate_filter_process_noise(MotionModel& model, const Regis
     calibration.rounds.push_back(report);
   }
   return calibration;
+}
+
+std::vector<IntervalCalibration> calibrate_process_noise_intervals(MotionModel& model,
+                                                                   const RegistrationPrior& registration,
+                                                                   std::span<const Measurement> measurements,
+                                                                   std::span<const Vector3d> targets,
+                                                                   std::span<const Matrix3d> target_covariances,
+                                                                   double longest, bool any_heading) {
+  if (measurements.size() != targets.size() ||
+      (!target_covariances.empty() && target_covariances.size() != targets.size())) {
+    throw std::invalid_argument(
+        "calibrate_process_noise_intervals: one target position (and covariance) per measurement");
+  }
+  const double period = model.process_noise_period();
+  const double coasting_from = kCoastingStartFactor * model.normalisation().longest_interval;
+  std::vector<IntervalCalibration> calibrations;
+  std::vector<IntervalNoise> forecast_nodes, coasting_nodes;
+  model.set_process_noise_intervals({}, {});
+  // Strides about 1.4 times apart: each interval within twice the last calibrated one, where a track
+  // still coasts (coasting_horizon), so that every stride has predictions to calibrate on.
+  for (int stride = 2; calibrations.empty() || calibrations.back().interval < longest * (1.0 - 1e-9);
+       stride = std::max(stride + 1, static_cast<int>(std::lround(stride * 1.4)))) {
+    const double tau = stride * period;
+    const bool coasting = tau > coasting_from;
+    std::vector<IntervalNoise>& nodes = coasting ? coasting_nodes : forecast_nodes;
+    // Q never shrinks with the interval along one curve; the coasting curve starts afresh.
+    std::optional<Matrix3d> previous;
+    if (!coasting) previous = model.process_noise(forecast_nodes.empty() ? period : forecast_nodes.back().interval);
+    if (coasting && !coasting_nodes.empty()) previous = coasting_nodes.back().covariance;
+    const auto set_model = [&](const std::optional<Matrix3d>& node) {
+      std::vector<IntervalNoise> with = nodes;
+      if (node) with.push_back({tau, *node});
+      model.set_process_noise_intervals(coasting ? forecast_nodes : with, coasting ? with : coasting_nodes);
+    };
+    // The first coasting round needs a coasting curve for tracks to coast: Φ's Q at τ, for a start.
+    if (coasting && coasting_nodes.empty()) set_model(model.process_noise(tau));
+    const Thinned split = thinned(measurements, targets, target_covariances, period, stride);
+    IntervalCalibration calibration{tau, stride, coasting, 0, 0.0, 0.0, Matrix3d::Zero()};
+    std::optional<Matrix3d> node;
+    for (int round = 0; round < 2; ++round) {
+      const std::optional<IntervalMoment> measured = interval_moment(
+          filter_residuals(model, registration, split.measurements, split.targets, split.target_covariances), tau,
+          model, coasting, any_heading);
+      if (!measured) break;
+      if (round == 0) {
+        calibration.predictions = measured->count;
+        calibration.prior_nees = measured->nees;
+        calibration.prior_error = measured->error;
+      }
+      node = round == 0 ? measured->moment : Matrix3d(0.5 * (*node + measured->moment));
+      if (previous) node = at_least(*node, *previous);
+      set_model(node);
+    }
+    if (!node) {
+      model.set_process_noise_intervals(forecast_nodes, coasting_nodes);
+      break;
+    }
+    nodes.push_back({tau, *node});
+    calibration.process_noise = *node;
+    calibrations.push_back(calibration);
+  }
+  model.set_process_noise_intervals(forecast_nodes, coasting_nodes);
+  return calibrations;
 }
 
 }  // namespace stgf

@@ -51,4 +51,35 @@ FilterCalibration calibrate_filter_process_noise(MotionModel& model, const Regis
                                                  std::span<const Matrix3d> target_covariances = {},
                                                  int rounds = 5, bool any_heading = false);
 
+// Q at longer intervals (core/process_noise_curve.hpp), after Q_ref: the same split thinned out to
+// every s-th frame of each scene (frames counted in Δt_ref from the scene's first time), for strides
+// s = 2, 3, 4, 6, 8, 11, … until s Δt_ref reaches `longest` seconds, while the thinned split still has
+// kMinimumIntervalPredictions predictions from tracks of two or more positions at about s Δt_ref
+// (within 25 %). At each, the filter runs as it would at a frame rate s times lower: Φ forecasts up to
+// kCoastingStartFactor times the longest interval it trained on (with histories spaced wider it does
+// worse than constant velocity: on mpl's validation split every 6 frames, 0.41 m against 0.20 m), and
+// beyond that the track coasts by constant velocity (up to twice the last interval calibrated). Each
+// interval gives a node of the curve its predictions followed, Φ's or the coasting one:
+//     Q_s = Q_prev + ⌊E[(sΔt_ref/Δt)² (r rᵀ − P̂_last − P_y)] − Q_prev⌋₊
+// (⌊·⌋₊: negative eigenvalues set to 0, so that Q never shrinks with the interval along a curve;
+// Q_prev the curve's node before, Q_ref for Φ's first, none for the coasting curve's first), in two
+// rounds, the second moving Q_s half way as Q_ref's rounds do. The nodes are left in `model`. A model
+// without coasting nodes keeps Φ's horizon and no track coasts.
+struct IntervalCalibration {
+  double interval = 0.0;       // s Δt_ref
+  int stride = 0;
+  bool coasting = false;       // a node of the coasting curve (constant velocity), else of Φ's
+  std::size_t predictions = 0;
+  double prior_nees = 0.0;     // of the predictions at this interval, under Q before this node
+  double prior_error = 0.0;    // mean ‖r‖ (m)
+  Matrix3d process_noise = Matrix3d::Zero();
+};
+inline constexpr std::size_t kMinimumIntervalPredictions = 200;
+std::vector<IntervalCalibration> calibrate_process_noise_intervals(MotionModel& model,
+                                                                   const RegistrationPrior& registration,
+                                                                   std::span<const Measurement> measurements,
+                                                                   std::span<const Vector3d> targets,
+                                                                   std::span<const Matrix3d> target_covariances,
+                                                                   double longest, bool any_heading = false);
+
 }  // namespace stgf

@@ -168,7 +168,8 @@ MotionModel& MotionModel::operator=(MotionModel&&) noexcept = default;
 void MotionModel::Impl::save(const std::string& path, const nlohmann::json& extra_metadata,
                              torch::optim::Optimizer* optimizer) const {
   MotionModelSettings settings{shape, normalisation, process_noise_reference, process_noise_period,
-                               extra_metadata.is_null() ? metadata : extra_metadata};
+                               extra_metadata.is_null() ? metadata : extra_metadata, process_noise_intervals,
+                               coasting_process_noise};
   const nlohmann::json config = settings_json(settings);
   const std::string config_text = config.dump();
   torch::serialize::OutputArchive archive;
@@ -245,6 +246,8 @@ MotionModel MotionModel::load_checked(const std::string& path) {
   impl->normalisation = settings.normalisation;
   impl->process_noise_reference = settings.process_noise_reference;
   impl->process_noise_period = settings.process_noise_period;
+  impl->process_noise_intervals = settings.process_noise_intervals;
+  impl->coasting_process_noise = settings.coasting_process_noise;
   impl->metadata = settings.metadata;
   impl->network = detail::MotionNetwork(impl->shape);
   try {
@@ -291,19 +294,60 @@ std::vector<std::vector<MotionForecast>> MotionModel::forecast(std::span<const M
 
 TrainedMotionModel MotionModel::trained() const {
   return TrainedMotionModel(MotionModelSettings{impl_->shape, impl_->normalisation, impl_->process_noise_reference,
-                                                impl_->process_noise_period, impl_->metadata},
+                                                impl_->process_noise_period, impl_->metadata,
+                                                impl_->process_noise_intervals, impl_->coasting_process_noise},
                             named_weights(impl_->network));
 }
 
 Matrix3d MotionModel::process_noise(double dt) const {
-  const double ratio = dt / impl_->process_noise_period;
-  return impl_->process_noise_reference * (ratio * ratio);
+  return process_noise_at(impl_->process_noise_reference, impl_->process_noise_period, impl_->process_noise_intervals,
+                          dt);
+}
+
+double MotionModel::widest_history_spacing() const {
+  return motion_model_widest_history_spacing(impl_->normalisation, impl_->coasting_process_noise);
+}
+
+double MotionModel::coasting_horizon() const {
+  return motion_model_coasting_horizon(impl_->normalisation, impl_->coasting_process_noise);
+}
+
+Matrix3d MotionModel::coasting_process_noise(double dt) const {
+  if (impl_->coasting_process_noise.empty()) return process_noise(dt);
+  return coasting_process_noise_at(impl_->coasting_process_noise, dt);
 }
 
 void MotionModel::set_process_noise(const Matrix3d& reference, double reference_period) {
   if (!reference.allFinite() || !(reference_period > 0.0)) throw std::invalid_argument("process noise is invalid");
   impl_->process_noise_reference = reference;
   impl_->process_noise_period = reference_period;
+  impl_->process_noise_intervals.clear();
+  impl_->coasting_process_noise.clear();
+}
+
+void MotionModel::set_process_noise_intervals(std::vector<IntervalNoise> intervals, std::vector<IntervalNoise> coasting) {
+  const auto check = [](const std::vector<IntervalNoise>& nodes, double after) {
+    for (const IntervalNoise& node : nodes) {
+      if (!(node.interval > after) || !node.covariance.allFinite()) {
+        throw std::invalid_argument("process noise intervals must increase from the reference period");
+      }
+      after = node.interval;
+    }
+  };
+  check(intervals, impl_->process_noise_period);
+  check(coasting, 0.0);
+  impl_->process_noise_intervals = std::move(intervals);
+  impl_->coasting_process_noise = std::move(coasting);
+}
+
+double MotionModel::process_noise_period() const { return impl_->process_noise_period; }
+
+const std::vector<IntervalNoise>& MotionModel::process_noise_intervals() const {
+  return impl_->process_noise_intervals;
+}
+
+const std::vector<IntervalNoise>& MotionModel::coasting_process_noise_intervals() const {
+  return impl_->coasting_process_noise;
 }
 
 const MotionModelShape& MotionModel::shape() const { return impl_->shape; }

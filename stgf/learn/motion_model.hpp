@@ -89,7 +89,17 @@ class MotionModel final : public MotionPredictor {
   // kHistorySpacingFactor of the training data's typical period s_t.
   double history_spacing() const override { return kHistorySpacingFactor * normalisation().period; }
   double prediction_horizon() const override { return kHorizonFactor * normalisation().longest_interval; }
+  double coasting_horizon() const override;        // motion_model_coasting_horizon
+  double widest_history_spacing() const override;  // motion_model_widest_history_spacing
+  Matrix3d coasting_process_noise(double dt) const override;
+  // Q_ref at Δt_ref (and no longer intervals: they were calibrated with the Q before).
   void set_process_noise(const Matrix3d& reference, double reference_period);
+  // Q calibrated at intervals beyond Δt_ref, of Φ's forecasts and of coasting tracks
+  // (core/process_noise_curve.hpp; learn/filter_calibration.hpp).
+  void set_process_noise_intervals(std::vector<IntervalNoise> intervals, std::vector<IntervalNoise> coasting);
+  const std::vector<IntervalNoise>& process_noise_intervals() const;
+  const std::vector<IntervalNoise>& coasting_process_noise_intervals() const;
+  double process_noise_period() const;  // Δt_ref
 
   // The model for its current weights, without LibTorch: what a file save() writes now would load as,
   // forecasts bit for bit the same.

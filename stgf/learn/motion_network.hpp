@@ -11,6 +11,7 @@
 #include <span>
 #include <vector>
 
+#include "stgf/core/process_noise_curve.hpp"
 #include "stgf/model/motion_features.hpp"
 #include "stgf/model/motion_inference.hpp"
 #include "stgf/learn/motion_model.hpp"
@@ -77,6 +78,8 @@ struct MotionModel::Impl {
   detail::MotionNetwork network{nullptr};
   Matrix3d process_noise_reference = 0.01 * Matrix3d::Identity();  // Q_ref (m²)
   double process_noise_period = 0.1;                                // Δt_ref (s)
+  std::vector<IntervalNoise> process_noise_intervals;               // Q beyond Δt_ref (may be empty)
+  std::vector<IntervalNoise> coasting_process_noise;                // Q of a coasting track (may be empty)
   nlohmann::json metadata = nlohmann::json::object();
 
   // Writes the model file; `optimizer` (may be null) is stored too, for resuming training.

@@ -112,6 +112,7 @@ void run_block(const MotionPredictor& predictor, const FilterOptions& options, s
   }
   for (const SceneRun& scene : block) {
     run.restarted_tracks += scene.filter->restarted_tracks();
+    run.coasting_predictions += scene.filter->coasting_predictions();
     run.late_measurements += scene.filter->late_measurements();
     run.rewinds += scene.filter->rewinds();
     run.gating.add(scene.name, scene.filter->view_noise_scales());

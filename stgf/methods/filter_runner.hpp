@@ -40,6 +40,7 @@ struct FilterRun {
   // What was predicted for each row before its update (when asked for).
   std::vector<std::optional<TrackPrediction>> predictions;
   std::size_t restarted_tracks = 0;    // summed over the scenes
+  std::size_t coasting_predictions = 0;  // by constant velocity beyond the model's horizon (ObjectTrack::coasts_to)
   std::size_t late_measurements = 0;   // too late for the lag window
   std::size_t rewinds = 0;             // late rows fused in their place in time
   GatingSummary gating;                // what the gate did (its restarts are in restarted_tracks too)

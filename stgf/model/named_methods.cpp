@@ -39,6 +39,7 @@ FilterOptions filter_options_for(const OursSettings& settings, const nlohmann::j
 
 void MethodRunReport::add(const MethodRunReport& later) {
   restarted_tracks += later.restarted_tracks;
+  coasting_predictions += later.coasting_predictions;
   rewinds += later.rewinds;
   late_measurements += later.late_measurements;
   registration_missing = registration_missing || later.registration_missing;
@@ -82,6 +83,7 @@ std::vector<Gaussian3> NamedMethodRun::add(std::span<const Measurement> rows) {
   const bool prediction_only = method_ == "ours-l";
   FilterRun run = run_spatiotemporal_graph_filter(*model_, options, rows, /*keep_predictions=*/prediction_only);
   part.restarted_tracks = run.restarted_tracks;
+  part.coasting_predictions = run.coasting_predictions;
   part.rewinds = run.rewinds;
   part.late_measurements = run.late_measurements;
   part.gating = std::move(run.gating);

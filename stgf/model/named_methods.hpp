@@ -31,6 +31,7 @@ FilterOptions filter_options_for(const OursSettings& settings, const nlohmann::j
 // What a run did that its caller should tell the user about.
 struct MethodRunReport {
   std::size_t restarted_tracks = 0;   // a track unseen for longer than the model's horizon started again
+  std::size_t coasting_predictions = 0;  // by constant velocity, beyond the model's horizon
   std::size_t rewinds = 0;            // late rows fused in their place in time
   std::size_t late_measurements = 0;  // rows later than the lag window, left out of the fusion
   bool registration_missing = false;  // the model holds no registration calibration (offsets taken as zero)

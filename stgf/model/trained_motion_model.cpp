@@ -1,7 +1,9 @@
 // SPDX-License-Identifier: Apache-2.0
 #include "stgf/model/trained_motion_model.hpp"
 
+#include <algorithm>
 #include <cmath>
+#include <limits>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -55,6 +57,34 @@ Eigen::VectorXf vector_of(const std::vector<float>& values) {
   return Eigen::Map<const Eigen::VectorXf>(values.data(), static_cast<Eigen::Index>(values.size()));
 }
 
+// Q_ref and Δt_ref, and the longer intervals' Q only when there are any (a model without them writes
+// the same config, and so the same file, as before they existed).
+nlohmann::json process_noise_json(const MotionModelSettings& settings) {
+  nlohmann::json json{{"reference", matrix_json(settings.process_noise_reference)}, {"period", settings.process_noise_period}};
+  const auto nodes_json = [](const std::vector<IntervalNoise>& nodes) {
+    nlohmann::json list = nlohmann::json::array();
+    for (const IntervalNoise& node : nodes) list.push_back({{"interval", node.interval}, {"covariance", matrix_json(node.covariance)}});
+    return list;
+  };
+  if (!settings.process_noise_intervals.empty()) json["intervals"] = nodes_json(settings.process_noise_intervals);
+  if (!settings.coasting_process_noise.empty()) json["coasting"] = nodes_json(settings.coasting_process_noise);
+  return json;
+}
+
+// Nodes of a Q curve from the file: finite, at increasing intervals beyond `after`.
+std::vector<IntervalNoise> nodes_from(const nlohmann::json& list, double after) {
+  std::vector<IntervalNoise> nodes;
+  for (const nlohmann::json& node : list) {
+    const IntervalNoise interval{node.at("interval").get<double>(), matrix_from(node.at("covariance"))};
+    if (!(interval.interval > after) || !std::isfinite(interval.interval) || !interval.covariance.allFinite()) {
+      throw std::invalid_argument("process noise intervals must be finite and increase from the reference period");
+    }
+    after = interval.interval;
+    nodes.push_back(interval);
+  }
+  return nodes;
+}
+
 }  // namespace
 
 nlohmann::json settings_json(const MotionModelSettings& settings) {
@@ -66,8 +96,7 @@ nlohmann::json settings_json(const MotionModelSettings& settings) {
             {"nearest_neighbours", s.nearest_neighbours}}},
           {"normalisation",
            {{"speed", n.speed}, {"period", n.period}, {"length", n.length}, {"longest_interval", n.longest_interval}}},
-          {"process_noise",
-           {{"reference", matrix_json(settings.process_noise_reference)}, {"period", settings.process_noise_period}}},
+          {"process_noise", process_noise_json(settings)},
           {"metadata", settings.metadata}};
 }
 
@@ -91,6 +120,10 @@ MotionModelSettings settings_from_json(const nlohmann::json& config) {
   settings.normalisation.longest_interval = n.value("longest_interval", 3.0 * settings.normalisation.period);
   settings.process_noise_reference = matrix_from(config.at("process_noise").at("reference"));
   settings.process_noise_period = config.at("process_noise").at("period").get<double>();
+  const nlohmann::json& process_noise = config.at("process_noise");
+  settings.process_noise_intervals =
+      nodes_from(process_noise.value("intervals", nlohmann::json::array()), settings.process_noise_period);
+  settings.coasting_process_noise = nodes_from(process_noise.value("coasting", nlohmann::json::array()), 0.0);
   settings.metadata = config.at("metadata");
   return settings;
 }
@@ -205,8 +238,26 @@ std::vector<std::vector<MotionForecast>> TrainedMotionModel::forecast(std::span<
 }
 
 Matrix3d TrainedMotionModel::process_noise(double dt) const {
-  const double ratio = dt / settings_.process_noise_period;
-  return settings_.process_noise_reference * (ratio * ratio);
+  return process_noise_at(settings_.process_noise_reference, settings_.process_noise_period,
+                          settings_.process_noise_intervals, dt);
+}
+
+Matrix3d TrainedMotionModel::coasting_process_noise(double dt) const {
+  if (settings_.coasting_process_noise.empty()) return process_noise(dt);
+  return coasting_process_noise_at(settings_.coasting_process_noise, dt);
+}
+
+double motion_model_coasting_horizon(const MotionNormalisation& normalisation,
+                                     std::span<const IntervalNoise> coasting_process_noise) {
+  const double horizon = kHorizonFactor * normalisation.longest_interval;
+  if (coasting_process_noise.empty()) return horizon;
+  return std::max(horizon, kHorizonFactor * coasting_process_noise.back().interval);
+}
+
+double motion_model_widest_history_spacing(const MotionNormalisation& normalisation,
+                                           std::span<const IntervalNoise> coasting_process_noise) {
+  if (coasting_process_noise.empty()) return std::numeric_limits<double>::infinity();
+  return kCoastingStartFactor * normalisation.longest_interval;
 }
 
 TrainedMotionModel TrainedMotionModel::load(const std::string& path) {

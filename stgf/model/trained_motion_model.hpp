@@ -18,6 +18,7 @@
 #include <nlohmann/json.hpp>
 
 #include "stgf/core/motion_predictor.hpp"
+#include "stgf/core/process_noise_curve.hpp"
 #include "stgf/model/motion_inference.hpp"
 
 namespace stgf {
@@ -42,6 +43,10 @@ struct MotionNormalisation {
 // Φ predicts across up to this many times the longest interval it trained on (the rate
 // independence of its output is tested at twice and half the training rate).
 inline constexpr double kHorizonFactor = 2.0;
+// With Q calibrated at longer intervals (process_noise_curve.hpp), constant velocity takes over from
+// Φ for a track whose history positions are further apart than this many times the longest interval
+// Φ trained on (a little more than it, for jitter): Φ never saw such histories.
+inline constexpr double kCoastingStartFactor = 1.25;
 // Φ's history positions are at least this fraction of its training period apart (motion_predictor.hpp):
 // measurements on asynchronous clocks a few milliseconds apart refine a track's estimate, and a new
 // history position starts once about a training period has passed (0.9, not 1, so that jitter in a
@@ -60,7 +65,19 @@ struct MotionModelSettings {
   Matrix3d process_noise_reference = Matrix3d::Zero();  // Q_ref (m²)
   double process_noise_period = 0.1;                    // Δt_ref (s)
   nlohmann::json metadata = nlohmann::json::object();
+  // Q calibrated at intervals beyond Δt_ref (core/process_noise_curve.hpp); empty: Q ∝ Δt² throughout.
+  std::vector<IntervalNoise> process_noise_intervals;
+  // Q of a coasting track (constant velocity beyond Φ's horizon); empty: no track coasts.
+  std::vector<IntervalNoise> coasting_process_noise;
 };
+// How long a track may go unseen: kHorizonFactor times the longest coasting interval Q was calibrated
+// at, when there is one (and it is beyond Φ's horizon); else Φ's horizon.
+double motion_model_coasting_horizon(const MotionNormalisation& normalisation,
+                                     std::span<const IntervalNoise> coasting_process_noise);
+// kCoastingStartFactor times the longest interval Φ trained on when constant velocity can take over
+// (there are coasting nodes), else infinite.
+double motion_model_widest_history_spacing(const MotionNormalisation& normalisation,
+                                           std::span<const IntervalNoise> coasting_process_noise);
 // The `config` text of a model file, and back (std::invalid_argument with the reason).
 nlohmann::json settings_json(const MotionModelSettings& settings);
 MotionModelSettings settings_from_json(const nlohmann::json& config);
@@ -109,6 +126,13 @@ class TrainedMotionModel final : public MotionPredictor {
   double typical_speed() const override { return settings_.normalisation.speed; }
   double history_spacing() const override { return kHistorySpacingFactor * settings_.normalisation.period; }
   double prediction_horizon() const override { return kHorizonFactor * settings_.normalisation.longest_interval; }
+  double widest_history_spacing() const override {
+    return motion_model_widest_history_spacing(settings_.normalisation, settings_.coasting_process_noise);
+  }
+  double coasting_horizon() const override {
+    return motion_model_coasting_horizon(settings_.normalisation, settings_.coasting_process_noise);
+  }
+  Matrix3d coasting_process_noise(double dt) const override;
 
   const MotionModelShape& shape() const { return settings_.shape; }
   const MotionNormalisation& normalisation() const { return settings_.normalisation; }

@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "stgf/learn/filter_calibration.hpp"
+#include "stgf/methods/filter_runner.hpp"
 #include "stgf/methods/run_method.hpp"
 #include "stgf/methods/weighted_least_squares.hpp"
 #include "support/tiny_motion_model.hpp"
@@ -23,6 +24,7 @@ namespace {
 
 constexpr int kScenes = 20;
 constexpr int kSteps = 12;
+constexpr int kLongSteps = 40;  // scenes long enough to thin out to a frame every 0.8 s
 constexpr int kObjects = 3;
 constexpr int kViews = 3;
 constexpr double kPeriod = 0.1;
@@ -36,7 +38,7 @@ struct Scenes {
 
 // Objects moving at a nearly constant velocity (about 1 m/s, velocity jittered by 0.3 m/s² white
 // acceleration), every view measuring every object at every step with its own isotropic noise.
-Scenes constant_velocity_scenes(std::uint64_t seed) {
+Scenes constant_velocity_scenes(std::uint64_t seed, int steps = kSteps) {
   std::mt19937_64 rng(seed);
   std::normal_distribution<double> normal;
   std::uniform_real_distribution<double> unit(0.0, 1.0);
@@ -49,7 +51,7 @@ Scenes constant_velocity_scenes(std::uint64_t seed) {
       const double heading = 6.283 * unit(rng);
       velocity.emplace_back(std::cos(heading), std::sin(heading), 0.0);
     }
-    for (int step = 0; step < kSteps; ++step) {
+    for (int step = 0; step < steps; ++step) {
       const double time = 5.0 + kPeriod * step;
       for (int object = 0; object < kObjects; ++object) {
         if (step > 0) {
@@ -178,6 +180,69 @@ TEST(FilterCalibration, RejectsBadArguments) {
   EXPECT_THROW(calibrate_filter_process_noise(model, RegistrationPrior{}, first_step, first_truth, {}, 1),
                std::invalid_argument);
   EXPECT_EQ(model.process_noise(kPeriod), before);  // a rejected call leaves Q alone
+}
+
+// Every `stride`-th step of each scene, leaving out the step `skipped` (counted after thinning) of
+// each scene: a lower frame rate with one missed frame.
+Scenes thinned(const Scenes& scenes, int stride, int skipped) {
+  Scenes result;
+  for (std::size_t k = 0; k < scenes.measurements.size(); ++k) {
+    const auto step = static_cast<int>(std::lround((scenes.measurements[k].time - 5.0) / kPeriod));
+    if (step % stride != 0 || step / stride == skipped) continue;
+    result.measurements.push_back(scenes.measurements[k]);
+    result.truth.push_back(scenes.truth[k]);
+  }
+  return result;
+}
+
+// Q at longer intervals: Φ's own up to 1.25 times the longest interval it trained on (0.3 s here),
+// constant velocity's beyond; each node a covariance, growing along its curve, and the model keeps
+// them. Then at a frame every 0.5 s (histories wider than Φ saw) with one frame missed (a gap of
+// 1 s, beyond Φ's horizon of 0.6 s) no track starts again, and the estimates stay honest; without
+// the nodes every track starts again after the missed frame.
+TEST(FilterCalibration, CalibratesLongerIntervalsSoThatTracksCoastAcrossAMissedFrame) {
+  const Scenes scenes = constant_velocity_scenes(7, kLongSteps);
+  MotionModel model = untrained_model();
+  calibrate_filter_process_noise(model, RegistrationPrior{}, scenes.measurements, scenes.truth, {}, 3);
+  const MotionModel without = untrained_model();
+  const double horizon = model.prediction_horizon();
+  ASSERT_NEAR(horizon, 0.6, 1e-12);
+  const std::vector<IntervalCalibration> nodes =
+      calibrate_process_noise_intervals(model, RegistrationPrior{}, scenes.measurements, scenes.truth, {}, 0.8);
+  ASSERT_EQ(nodes.size(), 5u);
+  const std::vector<double> intervals = {0.2, 0.3, 0.4, 0.6, 0.8};
+  for (std::size_t k = 0; k < nodes.size(); ++k) {
+    EXPECT_NEAR(nodes[k].interval, intervals[k], 1e-12);
+    EXPECT_EQ(nodes[k].coasting, intervals[k] > 0.375) << k;
+    EXPECT_GE(nodes[k].predictions, kMinimumIntervalPredictions);
+    const Eigen::SelfAdjointEigenSolver<Matrix3d> eigen(nodes[k].process_noise);
+    EXPECT_GT(eigen.eigenvalues().minCoeff(), 0.0) << k;
+    if (k > 0 && nodes[k].coasting == nodes[k - 1].coasting) {
+      const Eigen::SelfAdjointEigenSolver<Matrix3d> growth(nodes[k].process_noise - nodes[k - 1].process_noise);
+      EXPECT_GE(growth.eigenvalues().minCoeff(), -1e-12) << k;
+    }
+  }
+  ASSERT_EQ(model.process_noise_intervals().size(), 2u);
+  ASSERT_EQ(model.coasting_process_noise_intervals().size(), 3u);
+  EXPECT_LT((model.process_noise(0.3) - nodes[1].process_noise).cwiseAbs().maxCoeff(), 1e-15);
+  EXPECT_LT((model.coasting_process_noise(0.6) - nodes[3].process_noise).cwiseAbs().maxCoeff(), 1e-15);
+  EXPECT_NEAR(model.coasting_horizon(), 1.6, 1e-12);
+  EXPECT_NEAR(model.widest_history_spacing(), 0.375, 1e-12);
+  EXPECT_EQ(model.prediction_horizon(), horizon);
+
+  const Scenes low_rate = thinned(constant_velocity_scenes(8, kLongSteps), 5, 3);
+  FilterOptions options;
+  const FilterRun coasting = run_spatiotemporal_graph_filter(model, options, low_rate.measurements);
+  const FilterRun restarting = run_spatiotemporal_graph_filter(without, options, low_rate.measurements);
+  EXPECT_EQ(coasting.restarted_tracks, 0u);
+  EXPECT_EQ(restarting.restarted_tracks, static_cast<std::size_t>(kScenes * kObjects));
+  double nees = 0.0;
+  for (std::size_t k = 0; k < low_rate.measurements.size(); ++k) {
+    nees += coasting.estimates[k].mahalanobis_squared(low_rate.truth[k]);
+  }
+  nees /= static_cast<double>(low_rate.measurements.size());
+  EXPECT_GT(nees, 2.0);
+  EXPECT_LT(nees, 4.5);
 }
 
 }  // namespace

@@ -78,6 +78,28 @@ TEST(TrainedMotionModel, ReadsTheModelFileWithItsSettings) {
 }
 
 // Each object's forecast depends on its own graph only: the same alone as with other graphs.
+// Q at longer intervals and the coasting curve go into the file's config and come back; a model
+// without them writes the config it wrote before they existed (no new keys), so its file is unchanged.
+TEST(TrainedMotionModel, SettingsKeepQAtLongerIntervalsAndOnlyWhenThereAreAny) {
+  MotionModelSettings settings = TrainedMotionModel::load(kFixture).settings();
+  const nlohmann::json before = settings_json(settings);
+  EXPECT_FALSE(before.at("process_noise").contains("intervals"));
+  EXPECT_FALSE(before.at("process_noise").contains("coasting"));
+  const double period = settings.process_noise_period;
+  settings.process_noise_intervals = {{2.0 * period, 0.02 * Matrix3d::Identity()}};
+  settings.coasting_process_noise = {{4.0 * period, 0.05 * Matrix3d::Identity()},
+                                     {6.0 * period, 0.09 * Matrix3d::Identity()}};
+  const MotionModelSettings back = settings_from_json(nlohmann::json::parse(settings_json(settings).dump()));
+  ASSERT_EQ(back.process_noise_intervals.size(), 1u);
+  ASSERT_EQ(back.coasting_process_noise.size(), 2u);
+  EXPECT_EQ(back.process_noise_intervals[0].interval, 2.0 * period);
+  EXPECT_EQ(back.coasting_process_noise[1].covariance, 0.09 * Matrix3d::Identity());
+  // Nodes out of order are refused.
+  nlohmann::json config = settings_json(settings);
+  config["process_noise"]["coasting"][1]["interval"] = 3.0 * period;
+  EXPECT_THROW(settings_from_json(config), std::invalid_argument);
+}
+
 TEST(TrainedMotionModel, ForecastsEachGraphOnItsOwn) {
   const TrainedMotionModel model = TrainedMotionModel::load(kFixture);
   const std::vector<MotionGraph> graphs = walking_graphs();

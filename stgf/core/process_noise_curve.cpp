@@ -1,0 +1,30 @@
+// SPDX-License-Identifier: Apache-2.0
+#include "stgf/core/process_noise_curve.hpp"
+
+namespace stgf {
+
+Matrix3d process_noise_at(const Matrix3d& reference, double period, std::span<const IntervalNoise> nodes, double tau) {
+  if (nodes.empty() || tau <= period) {
+    const double ratio = tau / period;
+    return reference * (ratio * ratio);
+  }
+  double low_interval = period;
+  const Matrix3d* low = &reference;
+  for (const IntervalNoise& node : nodes) {
+    if (tau <= node.interval) {
+      const double share = (tau * tau - low_interval * low_interval) /
+                           (node.interval * node.interval - low_interval * low_interval);
+      return *low + share * (node.covariance - *low);
+    }
+    low_interval = node.interval;
+    low = &node.covariance;
+  }
+  const double ratio = tau / low_interval;
+  return *low * (ratio * ratio * ratio);
+}
+
+Matrix3d coasting_process_noise_at(std::span<const IntervalNoise> nodes, double tau) {
+  return process_noise_at(nodes.front().covariance, nodes.front().interval, nodes.subspan(1), tau);
+}
+
+}  // namespace stgf
