@@ -246,6 +246,12 @@ TEST(SpatiotemporalGraphFilter, GatesAGrossErrorOfOneView) {
   EXPECT_TRUE(ungated.view_noise_scales().reports().empty());
 }
 
+FilterOptions gate_on() {
+  FilterOptions options;
+  options.gate.enabled = true;
+  return options;
+}
+
 // An object walks a straight line at 1 m/s. At its first time view "b" reports it 10 m off, so the two
 // measurements conflict and nothing tells which is right. With the gate the start says so (its
 // covariance covers both), and it is no start for a velocity: the next times, where the views agree,
@@ -253,9 +259,7 @@ TEST(SpatiotemporalGraphFilter, GatesAGrossErrorOfOneView) {
 // pulled back towards it and the velocity between the two sent the track metres off.
 TEST(SpatiotemporalGraphFilter, AStartFromConflictingMeasurementsIsWideAndNoStartForAVelocity) {
   const ConstantVelocityPredictor predictor(0.01, 1.0);
-  FilterOptions options;
-  options.gate.enabled = true;
-  SpatiotemporalGraphFilter filter(predictor, options);
+  SpatiotemporalGraphFilter filter(predictor, gate_on());
   const Matrix3d r = 0.01 * Matrix3d::Identity();
   for (int k = 0; k < 5; ++k) {
     const double t = 0.1 * k;
@@ -277,14 +281,12 @@ TEST(SpatiotemporalGraphFilter, AStartFromConflictingMeasurementsIsWideAndNoStar
 // An object seen by one view, whose second measurement is 10 m off. With the gate, it is checked
 // against the prediction from the one position before it (velocity unknown, a typical speed's spread),
 // fails, and the track starts again from it at once; the next measurement, on the object again, fails
-// against that and starts it again. So two estimates are off, not the three and more that followed
-// when only a prediction with a known velocity was checked against (the outlier went in, the velocity
-// from it sent the track off, and it took three failures to start again).
+// against that and starts it again. So one estimate is off (the outlier's own), not the three and more
+// that followed when only a prediction with a known velocity was checked against (the outlier went
+// in, the velocity from it sent the track off, and it took three failures to start again).
 TEST(SpatiotemporalGraphFilter, GatesAGrossErrorOfATrackWithOnePosition) {
   const ConstantVelocityPredictor predictor(0.01, 1.0);
-  FilterOptions options;
-  options.gate.enabled = true;
-  SpatiotemporalGraphFilter filter(predictor, options);
+  SpatiotemporalGraphFilter filter(predictor, gate_on());
   const Matrix3d r = 0.01 * Matrix3d::Identity();
   int off = 0;
   for (int k = 0; k < 8; ++k) {
