@@ -57,7 +57,7 @@ FilterCalibration calibrate_filter_process_noise(MotionModel& model, const Regis
 // kMinimumIntervalPredictions predictions from tracks of two or more positions at about s Δt_ref
 // (within 25 %). At each, the filter runs as it would at a frame rate s times lower: Φ forecasts up to
 // kCoastingStartFactor times the longest interval it trained on (with histories spaced wider it does
-// worse than constant velocity: on mpl's validation split every 6 frames, 0.41 m against 0.20 m), and
+// worse than constant velocity: design §1.9), and
 // beyond that the track coasts by constant velocity (up to twice the last interval calibrated). Each
 // interval gives a node of the curve its predictions followed, Φ's or the coasting one:
 //     Q_s = Q_prev + ⌊E[(sΔt_ref/Δt)² (r rᵀ − P̂_last − P_y)] − Q_prev⌋₊
