@@ -1,6 +1,9 @@
 // SPDX-License-Identifier: Apache-2.0
 #include "stgf/core/process_noise_curve.hpp"
 
+#include <cmath>
+#include <stdexcept>
+
 namespace stgf {
 
 Matrix3d process_noise_at(const Matrix3d& reference, double period, std::span<const IntervalNoise> nodes, double tau) {
@@ -21,6 +24,15 @@ Matrix3d process_noise_at(const Matrix3d& reference, double period, std::span<co
   }
   const double ratio = tau / low_interval;
   return *low * (ratio * ratio * ratio);
+}
+
+void check_process_noise_nodes(std::span<const IntervalNoise> nodes, double after) {
+  for (const IntervalNoise& node : nodes) {
+    if (!(node.interval > after) || !std::isfinite(node.interval) || !node.covariance.allFinite()) {
+      throw std::invalid_argument("process noise intervals must be finite and increase from the reference period");
+    }
+    after = node.interval;
+  }
 }
 
 Matrix3d coasting_process_noise_at(std::span<const IntervalNoise> nodes, double tau) {

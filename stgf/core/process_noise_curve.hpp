@@ -30,6 +30,9 @@ struct IntervalNoise {
 
 // Q(τ) as above. `nodes` sorted by interval, all beyond `period`.
 Matrix3d process_noise_at(const Matrix3d& reference, double period, std::span<const IntervalNoise> nodes, double tau);
+// Throws std::invalid_argument unless every node's interval is finite and beyond the one before
+// (the first beyond `after`) and every covariance finite.
+void check_process_noise_nodes(std::span<const IntervalNoise> nodes, double after);
 // The coasting curve: Q(τ) with its first node as the reference. `nodes` must not be empty.
 Matrix3d coasting_process_noise_at(std::span<const IntervalNoise> nodes, double tau);
 

@@ -6,6 +6,7 @@
 #include <map>
 #include <optional>
 #include <stdexcept>
+#include <string>
 #include <string_view>
 
 #include "stgf/methods/filter_runner.hpp"
@@ -103,6 +104,15 @@ std::optional<IntervalMoment> interval_moment(const std::vector<Residual>& resid
   return result;
 }
 
+// One target (and covariance, unless there are none) per measurement.
+void check_targets(const char* function, std::span<const Measurement> measurements, std::span<const Vector3d> targets,
+                   std::span<const Matrix3d> target_covariances) {
+  if (measurements.size() != targets.size() ||
+      (!target_covariances.empty() && target_covariances.size() != targets.size())) {
+    throw std::invalid_argument(std::string(function) + ": one target position (and covariance) per measurement");
+  }
+}
+
 // `measured`, raised where it is below `previous`: previous + ⌊measured − previous⌋₊.
 Matrix3d at_least(const Matrix3d& measured, const Matrix3d& previous) {
   const Eigen::SelfAdjointEigenSolver<Matrix3d> eigen(symmetrised(measured - previous));
@@ -118,11 +128,7 @@ FilterCalibration calibrate_filter_process_noise(MotionModel& model, const Regis
                                                  std::span<const Matrix3d> target_covariances, int rounds,
                                                  bool any_heading) {
   if (rounds < 1) throw std::invalid_argument("calibrate_filter_process_noise: rounds must be at least 1");
-  if (measurements.size() != targets.size() ||
-      (!target_covariances.empty() && target_covariances.size() != targets.size())) {
-    throw std::invalid_argument(
-        "calibrate_filter_process_noise: one target position (and covariance) per measurement");
-  }
+  check_targets("calibrate_filter_process_noise", measurements, targets, target_covariances);
   FilterCalibration calibration;
   for (int round = 0; round < rounds; ++round) {
     const std::vector<Residual> residuals =
@@ -168,11 +174,7 @@ std::vector<IntervalCalibration> calibrate_process_noise_intervals(MotionModel& 
                                                                    std::span<const Vector3d> targets,
                                                                    std::span<const Matrix3d> target_covariances,
                                                                    double longest, bool any_heading) {
-  if (measurements.size() != targets.size() ||
-      (!target_covariances.empty() && target_covariances.size() != targets.size())) {
-    throw std::invalid_argument(
-        "calibrate_process_noise_intervals: one target position (and covariance) per measurement");
-  }
+  check_targets("calibrate_process_noise_intervals", measurements, targets, target_covariances);
   const double period = model.process_noise_period();
   const double coasting_from = kCoastingStartFactor * model.normalisation().longest_interval;
   std::vector<IntervalCalibration> calibrations;

@@ -326,16 +326,8 @@ void MotionModel::set_process_noise(const Matrix3d& reference, double reference_
 }
 
 void MotionModel::set_process_noise_intervals(std::vector<IntervalNoise> intervals, std::vector<IntervalNoise> coasting) {
-  const auto check = [](const std::vector<IntervalNoise>& nodes, double after) {
-    for (const IntervalNoise& node : nodes) {
-      if (!(node.interval > after) || !node.covariance.allFinite()) {
-        throw std::invalid_argument("process noise intervals must increase from the reference period");
-      }
-      after = node.interval;
-    }
-  };
-  check(intervals, impl_->process_noise_period);
-  check(coasting, 0.0);
+  check_process_noise_nodes(intervals, impl_->process_noise_period);
+  check_process_noise_nodes(coasting, 0.0);
   impl_->process_noise_intervals = std::move(intervals);
   impl_->coasting_process_noise = std::move(coasting);
 }

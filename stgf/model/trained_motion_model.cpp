@@ -75,13 +75,9 @@ nlohmann::json process_noise_json(const MotionModelSettings& settings) {
 std::vector<IntervalNoise> nodes_from(const nlohmann::json& list, double after) {
   std::vector<IntervalNoise> nodes;
   for (const nlohmann::json& node : list) {
-    const IntervalNoise interval{node.at("interval").get<double>(), matrix_from(node.at("covariance"))};
-    if (!(interval.interval > after) || !std::isfinite(interval.interval) || !interval.covariance.allFinite()) {
-      throw std::invalid_argument("process noise intervals must be finite and increase from the reference period");
-    }
-    after = interval.interval;
-    nodes.push_back(interval);
+    nodes.push_back({node.at("interval").get<double>(), matrix_from(node.at("covariance"))});
   }
+  check_process_noise_nodes(nodes, after);
   return nodes;
 }
 
@@ -118,9 +114,9 @@ MotionModelSettings settings_from_json(const nlohmann::json& config) {
   settings.normalisation = {n.at("speed").get<double>(), n.at("period").get<double>(), n.at("length").get<double>(), 0.0};
   // Files written before the horizon was stored: three steps, as `stgf train --strides 1,2,3` trains.
   settings.normalisation.longest_interval = n.value("longest_interval", 3.0 * settings.normalisation.period);
-  settings.process_noise_reference = matrix_from(config.at("process_noise").at("reference"));
-  settings.process_noise_period = config.at("process_noise").at("period").get<double>();
   const nlohmann::json& process_noise = config.at("process_noise");
+  settings.process_noise_reference = matrix_from(process_noise.at("reference"));
+  settings.process_noise_period = process_noise.at("period").get<double>();
   settings.process_noise_intervals =
       nodes_from(process_noise.value("intervals", nlohmann::json::array()), settings.process_noise_period);
   settings.coasting_process_noise = nodes_from(process_noise.value("coasting", nlohmann::json::array()), 0.0);
