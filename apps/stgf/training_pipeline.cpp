@@ -181,18 +181,41 @@ void calibrate_in_filter(const std::string& model_path, const Split& validation,
   nlohmann::json rounds = nlohmann::json::array();
   for (const FilterCalibrationRound& round : calibration.rounds) {
     const Matrix3d& q = round.process_noise;
-    spdlog::info("Q in the filter on the validation split: prediction error {:.4f} m, NEES {:.2f} -> Q at Δt = "
-                 "{:.3f} s: diag({:.3g}, {:.3g}, {:.3g}) m²",
-                 round.prior_error, round.prior_nees, calibration.period, q(0, 0), q(1, 1), q(2, 2));
+    if (round.stable) {
+      spdlog::info("Q in the filter on the validation split: prediction error {:.4f} m, NEES {:.2f} -> Q at Δt = "
+                   "{:.3f} s: diag({:.3g}, {:.3g}, {:.3g}) m²",
+                   round.prior_error, round.prior_nees, calibration.period, q(0, 0), q(1, 1), q(2, 2));
+    } else {
+      spdlog::warn("Q in the filter on the validation split: prediction error {:.4g} m: the filter ran away with this "
+                   "Q; half way back to the last Q it was stable with: diag({:.3g}, {:.3g}, {:.3g}) m²",
+                   round.prior_error, q(0, 0), q(1, 1), q(2, 2));
+    }
     rounds.push_back({{"prediction_error_m", round.prior_error}, {"prediction_nees", round.prior_nees}});
+    if (!round.stable) rounds.back()["ran_away"] = true;
+  }
+  const FilterCalibrationRound& check = calibration.check;
+  if (check.stable) {
+    spdlog::info("Q in the filter on the validation split, checked: prediction error {:.4f} m, NEES {:.2f}",
+                 check.prior_error, check.prior_nees);
+  } else {
+    const Matrix3d& q = check.process_noise;
+    spdlog::warn("Q in the filter on the validation split, checked: prediction error {:.4g} m: the filter ran away "
+                 "with the last Q; the model keeps the last Q it was stable with: diag({:.3g}, {:.3g}, {:.3g}) m²",
+                 check.prior_error, q(0, 0), q(1, 1), q(2, 2));
   }
   nlohmann::json metadata = model.metadata();
   metadata["process_noise_calibration"] = {
-      {"regime", "filter"}, {"split", "val"}, {"predictions", calibration.predictions}, {"rounds", rounds}};
+      {"regime", "filter"},
+      {"split", "val"},
+      {"predictions", calibration.predictions},
+      {"rounds", rounds},
+      {"check", {{"prediction_error_m", check.prior_error}, {"prediction_nees", check.prior_nees}}}};
+  if (!check.stable) metadata["process_noise_calibration"]["check"]["ran_away"] = true;
   if (long_intervals > 0.0) {
-    const std::vector<IntervalCalibration> intervals =
+    const IntervalCalibrations calibrated =
         calibrate_process_noise_intervals(model, registration, validation.measurements, validation.target_of_row,
                                           validation.target_covariance_of_row, long_intervals, any_heading);
+    const std::vector<IntervalCalibration>& intervals = calibrated.nodes;
     nlohmann::json nodes = nlohmann::json::array();
     for (const IntervalCalibration& node : intervals) {
       const Matrix3d& q = node.process_noise;
@@ -203,7 +226,12 @@ void calibrate_in_filter(const std::string& model_path, const Split& validation,
       nodes.push_back({{"interval_s", node.interval}, {"coasting", node.coasting}, {"predictions", node.predictions},
                        {"prediction_error_m", node.prior_error}, {"prediction_nees", node.prior_nees}});
     }
-    if (intervals.empty() || intervals.back().interval < long_intervals - 1e-9) {
+    if (calibrated.diverged_at > 0.0) {
+      spdlog::warn("Q calibrated up to {:.3f} s, not {:.3f} s: at {:.3f} s the filter ran away with the Q its first "
+                   "round measured",
+                   intervals.empty() ? calibration.period : intervals.back().interval, long_intervals,
+                   calibrated.diverged_at);
+    } else if (intervals.empty() || intervals.back().interval < long_intervals - 1e-9) {
       spdlog::warn("Q calibrated up to {:.3f} s, not {:.3f} s: the validation scenes are too short (or too few) for "
                    "{} predictions at longer intervals",
                    intervals.empty() ? calibration.period : intervals.back().interval, long_intervals,

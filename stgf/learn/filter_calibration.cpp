@@ -9,6 +9,7 @@
 #include <string>
 #include <string_view>
 
+#include "stgf/learn/process_noise_rounds.hpp"
 #include "stgf/methods/filter_runner.hpp"
 
 namespace stgf {
@@ -104,6 +105,23 @@ std::optional<IntervalMoment> interval_moment(const std::vector<Residual>& resid
   return result;
 }
 
+// The mean NEES of the residuals under the model's Q, and their mean ‖r‖ (m).
+struct PredictionScore {
+  double nees = 0.0;
+  double error = 0.0;
+};
+PredictionScore score(const std::vector<Residual>& residuals, const MotionModel& model) {
+  PredictionScore result;
+  for (const Residual& residual : residuals) {
+    const Matrix3d covariance = residual.known_covariance + model.process_noise(residual.dt);
+    result.nees += residual.error.dot(covariance.ldlt().solve(residual.error));
+    result.error += residual.error.norm();
+  }
+  result.nees /= static_cast<double>(residuals.size());
+  result.error /= static_cast<double>(residuals.size());
+  return result;
+}
+
 // One target (and covariance, unless there are none) per measurement.
 void check_targets(const char* function, std::span<const Measurement> measurements, std::span<const Vector3d> targets,
                    std::span<const Matrix3d> target_covariances) {
@@ -130,10 +148,14 @@ FilterCalibration calibrate_filter_process_noise(MotionModel& model, const Regis
   if (rounds < 1) throw std::invalid_argument("calibrate_filter_process_noise: rounds must be at least 1");
   check_targets("calibrate_filter_process_noise", measurements, targets, target_covariances);
   FilterCalibration calibration;
-  for (int round = 0; round < rounds; ++round) {
-    const std::vector<Residual> residuals =
-        filter_residuals(model, registration, measurements, targets, target_covariances);
+  std::optional<ProcessNoiseRounds> steps;  // from the first round on, once Δt_ref is known
+  const auto residuals_under_current_q = [&] {
+    std::vector<Residual> residuals = filter_residuals(model, registration, measurements, targets, target_covariances);
     if (residuals.empty()) throw std::invalid_argument("no prediction from a track of two or more positions to calibrate Q on");
+    return residuals;
+  };
+  for (int round = 0; round < rounds; ++round) {
+    const std::vector<Residual> residuals = residuals_under_current_q();
     if (round == 0) {
       std::vector<double> intervals;
       intervals.reserve(residuals.size());
@@ -142,7 +164,10 @@ FilterCalibration calibrate_filter_process_noise(MotionModel& model, const Regis
                        intervals.end());
       calibration.period = intervals[intervals.size() / 2];
       calibration.predictions = residuals.size();
+      steps.emplace(model.process_noise(calibration.period));
     }
+    // The moment of interval_moment over every residual, written out here: folding the two together
+    // moved the last bits of every model's Q.
     FilterCalibrationRound report;
     Matrix3d moment = Matrix3d::Zero();
     for (const Residual& residual : residuals) {
@@ -159,25 +184,28 @@ FilterCalibration calibrate_filter_process_noise(MotionModel& model, const Regis
     const Vector3d floored = eigen.eigenvalues().cwiseMax(kProcessNoiseFloor);
     Matrix3d measured = eigen.eigenvectors() * floored.asDiagonal() * eigen.eigenvectors().transpose();
     if (any_heading) measured = averaged_over_headings(measured);
-    // Damped: Q moves half way, since the residuals it is measured from respond to Q.
-    const Matrix3d previous = round == 0 ? measured : model.process_noise(calibration.period);
-    report.process_noise = symmetrised(0.5 * (previous + measured));
+    report.stable = steps->record(report.prior_error, measured);
+    report.process_noise = steps->current();
     model.set_process_noise(report.process_noise, calibration.period);
     calibration.rounds.push_back(report);
   }
+  // The Q left has not been run yet.
+  const PredictionScore last = score(residuals_under_current_q(), model);
+  calibration.check = {last.nees, last.error, steps->check(last.error), steps->current()};
+  if (!calibration.check.stable) model.set_process_noise(steps->current(), calibration.period);
   return calibration;
 }
 
-std::vector<IntervalCalibration> calibrate_process_noise_intervals(MotionModel& model,
-                                                                   const RegistrationPrior& registration,
-                                                                   std::span<const Measurement> measurements,
-                                                                   std::span<const Vector3d> targets,
-                                                                   std::span<const Matrix3d> target_covariances,
-                                                                   double longest, bool any_heading) {
+IntervalCalibrations calibrate_process_noise_intervals(MotionModel& model, const RegistrationPrior& registration,
+                                                       std::span<const Measurement> measurements,
+                                                       std::span<const Vector3d> targets,
+                                                       std::span<const Matrix3d> target_covariances, double longest,
+                                                       bool any_heading) {
   check_targets("calibrate_process_noise_intervals", measurements, targets, target_covariances);
   const double period = model.process_noise_period();
   const double coasting_from = kCoastingStartFactor * model.normalisation().longest_interval;
-  std::vector<IntervalCalibration> calibrations;
+  IntervalCalibrations result;
+  std::vector<IntervalCalibration>& calibrations = result.nodes;
   std::vector<IntervalNoise> forecast_nodes, coasting_nodes;
   model.set_process_noise_intervals({}, {});
   // Strides about 1.4 times apart: each interval within twice the last calibrated one, where a track
@@ -206,6 +234,12 @@ std::vector<IntervalCalibration> calibrate_process_noise_intervals(MotionModel& 
           filter_residuals(model, registration, split.measurements, split.targets, split.target_covariances), tau,
           model, coasting, any_heading);
       if (!measured) break;
+      // The run with the first round's node ran away: no node at τ, and none beyond.
+      if (round == 1 && ran_away(measured->error, calibration.prior_error)) {
+        result.diverged_at = tau;
+        node.reset();
+        break;
+      }
       if (round == 0) {
         calibration.predictions = measured->count;
         calibration.prior_nees = measured->nees;
@@ -224,7 +258,7 @@ std::vector<IntervalCalibration> calibrate_process_noise_intervals(MotionModel& 
     calibrations.push_back(calibration);
   }
   model.set_process_noise_intervals(forecast_nodes, coasting_nodes);
-  return calibrations;
+  return result;
 }
 
 }  // namespace stgf

@@ -13,7 +13,9 @@
 // over the predictions from tracks of at least two positions, Δt_ref their median interval. A new Q
 // changes how much the filter trusts Φ and so the histories Φ reads, and a full step can overshoot
 // (on mpl the vertical part swung between 2e-4 and 3e-6 m²): after the first round, each round moves
-// Q half way to what it measured, Q ← (Q + Q_measured) / 2, a fixed number of rounds.
+// Q half way to what it measured, Q ← (Q + Q_measured) / 2, a fixed number of rounds. A round whose
+// filter ran away is not used, and the next runs half way back to the last Q the filter was stable
+// with; the Q left after the rounds is checked by one more run (learn/process_noise_rounds.hpp).
 //
 // Without truth, y is what was measured at the row's time — the fused position of all views'
 // measurements of the object then, with covariance P_y (0 for the truth). Its noise is in r and P_y
@@ -32,18 +34,22 @@ namespace stgf {
 struct FilterCalibrationRound {
   double prior_nees = 0.0;   // mean NEES of the predictions (x, P̂_last + Q) under the round's Q
   double prior_error = 0.0;  // mean ‖r‖ (m)
-  Matrix3d process_noise = Matrix3d::Zero();  // Q_ref calibrated from this round
+  bool stable = true;        // false: the filter ran away under the round's Q (process_noise_rounds.hpp)
+  Matrix3d process_noise = Matrix3d::Zero();  // Q_ref for the next round: calibrated, or stepped back
 };
 
 struct FilterCalibration {
   std::vector<FilterCalibrationRound> rounds;
+  // The run with the last round's Q; not stable: the model was given the last stable round's Q instead
+  // (in process_noise).
+  FilterCalibrationRound check;
   double period = 0.0;           // Δt_ref
   std::size_t predictions = 0;   // per round
 };
 
 // Runs the filter `rounds` times over `measurements` (targets[k] the true position of row k, or the
 // measured one with covariance target_covariances[k]; empty covariances: the truth) and leaves
-// the last round's Q in `model`; with `any_heading`, Q averaged over the world frame's headings
+// the last round's Q in `model` (or, when the check run diverged, the last stable one: check); with `any_heading`, Q averaged over the world frame's headings
 // (averaged_over_headings). std::invalid_argument when no prediction has two positions behind it.
 FilterCalibration calibrate_filter_process_noise(MotionModel& model, const RegistrationPrior& registration,
                                                  std::span<const Measurement> measurements,
@@ -63,8 +69,10 @@ FilterCalibration calibrate_filter_process_noise(MotionModel& model, const Regis
 //     Q_s = Q_prev + ⌊E[(sΔt_ref/Δt)² (r rᵀ − P̂_last − P_y)] − Q_prev⌋₊
 // (⌊·⌋₊: negative eigenvalues set to 0, so that Q never shrinks with the interval along a curve;
 // Q_prev the curve's node before, Q_ref for Φ's first, none for the coasting curve's first), in two
-// rounds, the second moving Q_s half way as Q_ref's rounds do. The nodes are left in `model`. A model
-// without coasting nodes keeps Φ's horizon and no track coasts.
+// rounds, the second moving Q_s half way as Q_ref's rounds do. When the second round's run ran away
+// (process_noise_rounds.hpp: its mean error more than kDivergenceFactor times the first's), the
+// curves end before τ. The nodes are left in `model`. A model without coasting nodes keeps Φ's horizon
+// and no track coasts.
 struct IntervalCalibration {
   double interval = 0.0;       // s Δt_ref
   int stride = 0;
@@ -74,12 +82,15 @@ struct IntervalCalibration {
   double prior_error = 0.0;    // mean ‖r‖ (m)
   Matrix3d process_noise = Matrix3d::Zero();
 };
+struct IntervalCalibrations {
+  std::vector<IntervalCalibration> nodes;
+  double diverged_at = 0.0;  // the interval whose run ran away, where the curves end; 0: none did
+};
 inline constexpr std::size_t kMinimumIntervalPredictions = 200;
-std::vector<IntervalCalibration> calibrate_process_noise_intervals(MotionModel& model,
-                                                                   const RegistrationPrior& registration,
-                                                                   std::span<const Measurement> measurements,
-                                                                   std::span<const Vector3d> targets,
-                                                                   std::span<const Matrix3d> target_covariances,
-                                                                   double longest, bool any_heading = false);
+IntervalCalibrations calibrate_process_noise_intervals(MotionModel& model, const RegistrationPrior& registration,
+                                                       std::span<const Measurement> measurements,
+                                                       std::span<const Vector3d> targets,
+                                                       std::span<const Matrix3d> target_covariances, double longest,
+                                                       bool any_heading = false);
 
 }  // namespace stgf

@@ -65,7 +65,7 @@ Scenes constant_velocity_scenes(std::uint64_t seed, int steps = kSteps) {
           scenes.measurements.push_back(
               Measurement{"scene" + std::to_string(scene), time, "view" + std::to_string(view),
                           "o" + std::to_string(object),
-                          Gaussian3::from_covariance(z, sigma * sigma * Matrix3d::Identity()), std::nullopt});
+                          Gaussian3::from_covariance(z, sigma * sigma * Matrix3d::Identity()), std::nullopt, std::nullopt});
           scenes.truth.push_back(position[object]);
         }
       }
@@ -95,10 +95,16 @@ TEST(FilterCalibration, CalibratesAConsistentProcessNoise) {
     EXPECT_TRUE(std::isfinite(report.prior_nees) && report.prior_nees > 0.0) << "round " << round;
     EXPECT_GT(report.prior_error, 0.0);
     EXPECT_LT(report.prior_error, 1.0);
+    EXPECT_TRUE(report.stable) << "round " << round;
   }
   const FilterCalibrationRound& last = calibration.rounds.back();
   EXPECT_GE(last.prior_nees, 2.0);
   EXPECT_LE(last.prior_nees, 4.5);
+  // The check runs the last Q: stable, and as consistent.
+  EXPECT_TRUE(calibration.check.stable);
+  EXPECT_EQ(calibration.check.process_noise, last.process_noise);
+  EXPECT_GE(calibration.check.prior_nees, 2.0);
+  EXPECT_LE(calibration.check.prior_nees, 4.5);
   // The model keeps the last round's Q, at the calibration's reference period.
   EXPECT_EQ(model.process_noise(calibration.period), last.process_noise);
   EXPECT_LT((model.process_noise(2.0 * calibration.period) - 4.0 * last.process_noise).cwiseAbs().maxCoeff(),
@@ -207,8 +213,10 @@ TEST(FilterCalibration, CalibratesLongerIntervalsSoThatTracksCoastAcrossAMissedF
   const MotionModel without = untrained_model();
   const double horizon = model.prediction_horizon();
   ASSERT_NEAR(horizon, 0.6, 1e-12);
-  const std::vector<IntervalCalibration> nodes =
+  const IntervalCalibrations calibrated =
       calibrate_process_noise_intervals(model, RegistrationPrior{}, scenes.measurements, scenes.truth, {}, 0.8);
+  EXPECT_EQ(calibrated.diverged_at, 0.0);
+  const std::vector<IntervalCalibration>& nodes = calibrated.nodes;
   ASSERT_EQ(nodes.size(), 5u);
   const std::vector<double> intervals = {0.2, 0.3, 0.4, 0.6, 0.8};
   for (std::size_t k = 0; k < nodes.size(); ++k) {
