@@ -20,10 +20,13 @@ bool ProcessNoiseRounds::record(double error, const Matrix3d& measured) {
     current_ = symmetrised(0.5 * (stable_ + current_));
     return false;
   }
+  // Against this run, the stable rounds before ran away (the first round's Q can be far too small):
+  // start afresh from it.
+  const bool fresh = first || ran_away(best_error_, error);
   stable_ = current_;
-  best_error_ = first ? error : std::min(best_error_, error);
-  // Round 0 takes what it measured: (Q_measured + Q_measured) / 2, bit for bit.
-  const Matrix3d& previous = first ? measured : current_;
+  best_error_ = fresh ? error : std::min(best_error_, error);
+  // A fresh start takes what it measured: (Q_measured + Q_measured) / 2, bit for bit.
+  const Matrix3d& previous = fresh ? measured : current_;
   current_ = symmetrised(0.5 * (previous + measured));
   return true;
 }

@@ -18,6 +18,9 @@
 //     round 0:  Q ← Q_measured
 //     later:    Q ← (Q + Q_measured) / 2       (damped: the residuals respond to Q)
 // The first round has nothing to compare with: it is always stable unless its error is not finite.
+// When it was the one that ran away (the trained Q far too small), a later round's error is less than
+// 1/kDivergenceFactor of it: that round starts the rounds afresh (it is the new reference, and Q takes
+// what it measured), instead of halving a Q of 10⁷ m² round by round.
 // After the last round, the Q left has not been run; the caller checks it with one more run (check()),
 // which falls back to the last stable Q when that run diverges.
 

@@ -47,6 +47,19 @@ TEST(ProcessNoiseRounds, StepsHalfWayBackWhenTheFilterRanAway) {
   EXPECT_TRUE(rounds.current().isApprox(0.5 * (back + diagonal(0.2, 0.05, 0.002)), 1e-15));
 }
 
+// The trained Q itself too small: the first run ran away, its residuals asked for a huge Q, and the
+// next run (stable under it) starts the rounds afresh.
+TEST(ProcessNoiseRounds, StartsAfreshWhenTheFirstRoundRanAway) {
+  ProcessNoiseRounds rounds(diagonal(1e-4, 1e-4, 1e-6));
+  ASSERT_TRUE(rounds.record(200.0, diagonal(1e7, 1e5, 1e6)));
+  EXPECT_EQ(rounds.current(), diagonal(1e7, 1e5, 1e6));
+  EXPECT_TRUE(rounds.record(0.5, diagonal(0.2, 0.05, 0.002)));
+  EXPECT_EQ(rounds.current(), diagonal(0.2, 0.05, 0.002));
+  // The new reference is 0.5 m: 1.5 m now runs away, and Q steps back towards the huge one.
+  EXPECT_FALSE(rounds.record(1.5, diagonal(0.1, 0.1, 0.1)));
+  EXPECT_TRUE(rounds.current().isApprox(0.5 * (diagonal(1e7, 1e5, 1e6) + diagonal(0.2, 0.05, 0.002)), 1e-15));
+}
+
 TEST(ProcessNoiseRounds, TheCheckFallsBackToTheLastStableQ) {
   ProcessNoiseRounds rounds(diagonal(1.0, 1.0, 1.0));
   ASSERT_TRUE(rounds.record(0.5, diagonal(0.2, 0.2, 0.2)));
