@@ -219,12 +219,16 @@ void calibrate_in_filter(const std::string& model_path, const Split& validation,
     nlohmann::json nodes = nlohmann::json::array();
     for (const IntervalCalibration& node : intervals) {
       const Matrix3d& q = node.process_noise;
-      spdlog::info("Q in the filter on the validation split every {} frames ({}): prediction error {:.4f} m, NEES "
+      const std::string rival =
+          node.rival_error > 0.0 ? fmt::format(" ({} {:.4f} m)", node.coasting ? "Φ" : "constant velocity", node.rival_error)
+                                 : std::string();
+      spdlog::info("Q in the filter on the validation split every {} frames ({}): prediction error {:.4f} m{}, NEES "
                    "{:.2f} -> Q at Δt = {:.3f} s: diag({:.3g}, {:.3g}, {:.3g}) m²",
-                   node.stride, node.coasting ? "constant velocity" : "Φ", node.prior_error, node.prior_nees,
+                   node.stride, node.coasting ? "constant velocity" : "Φ", node.prior_error, rival, node.prior_nees,
                    node.interval, q(0, 0), q(1, 1), q(2, 2));
       nodes.push_back({{"interval_s", node.interval}, {"coasting", node.coasting}, {"predictions", node.predictions},
                        {"prediction_error_m", node.prior_error}, {"prediction_nees", node.prior_nees}});
+      if (node.rival_error > 0.0) nodes.back()["other_prediction_error_m"] = node.rival_error;
     }
     if (calibrated.diverged_at > 0.0) {
       spdlog::warn("Q calibrated up to {:.3f} s, not {:.3f} s: at {:.3f} s the filter ran away with the Q its first "

@@ -210,10 +210,36 @@ IntervalCalibrations calibrate_process_noise_intervals(MotionModel& model, const
   model.set_process_noise_intervals({}, {});
   // Strides about 1.4 times apart: each interval within twice the last calibrated one, where a track
   // still coasts (coasting_horizon), so that every stride has predictions to calibrate on.
+  bool forecasts_lost = false;  // constant velocity predicted better than Φ at a shorter interval
   for (int stride = 2; calibrations.empty() || calibrations.back().interval < longest * (1.0 - 1e-9);
        stride = std::max(stride + 1, static_cast<int>(std::lround(stride * 1.4)))) {
     const double tau = stride * period;
-    const bool coasting = tau > coasting_from;
+    const Thinned split = thinned(measurements, targets, target_covariances, period, stride);
+    const auto measure = [&](bool coasting) {
+      return interval_moment(
+          filter_residuals(model, registration, split.measurements, split.targets, split.target_covariances), tau,
+          model, coasting, any_heading);
+    };
+    IntervalCalibration calibration{tau, stride, forecasts_lost || tau > coasting_from, 0, 0.0, 0.0, 0.0,
+                                    Matrix3d::Zero()};
+    // Round 0 of Φ's curve; then constant velocity at τ under the same Q (a coasting curve that starts
+    // at τ makes every track of the thinned split coast): Φ's curve ends where it predicts worse.
+    std::optional<IntervalMoment> first;
+    if (!calibration.coasting) {
+      first = measure(false);
+      model.set_process_noise_intervals(forecast_nodes, {{tau, model.process_noise(tau)}});
+      const std::optional<IntervalMoment> rival = measure(true);
+      model.set_process_noise_intervals(forecast_nodes, coasting_nodes);
+      if (first && rival) {
+        calibration.rival_error = rival->error;
+        if (rival->error < first->error) {
+          calibration.rival_error = first->error;
+          calibration.coasting = forecasts_lost = true;
+          first = rival;
+        }
+      }
+    }
+    const bool coasting = calibration.coasting;
     std::vector<IntervalNoise>& nodes = coasting ? coasting_nodes : forecast_nodes;
     // Q never shrinks with the interval along one curve; the coasting curve starts afresh.
     std::optional<Matrix3d> previous;
@@ -226,13 +252,9 @@ IntervalCalibrations calibrate_process_noise_intervals(MotionModel& model, const
     };
     // The first coasting round needs a coasting curve for tracks to coast: Φ's Q at τ, for a start.
     if (coasting && coasting_nodes.empty()) set_model(model.process_noise(tau));
-    const Thinned split = thinned(measurements, targets, target_covariances, period, stride);
-    IntervalCalibration calibration{tau, stride, coasting, 0, 0.0, 0.0, Matrix3d::Zero()};
     std::optional<Matrix3d> node;
     for (int round = 0; round < 2; ++round) {
-      const std::optional<IntervalMoment> measured = interval_moment(
-          filter_residuals(model, registration, split.measurements, split.targets, split.target_covariances), tau,
-          model, coasting, any_heading);
+      const std::optional<IntervalMoment> measured = round == 0 && first ? first : measure(coasting);
       if (!measured) break;
       // The run with the first round's node ran away: no node at τ, and none beyond.
       if (round == 1 && ran_away(measured->error, calibration.prior_error)) {

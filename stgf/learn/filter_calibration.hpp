@@ -61,10 +61,13 @@ FilterCalibration calibrate_filter_process_noise(MotionModel& model, const Regis
 // every s-th frame of each scene (frames counted in Δt_ref from the scene's first time), for strides
 // s = 2, 3, 4, 6, 8, 11, … until s Δt_ref reaches `longest` seconds, while the thinned split still has
 // kMinimumIntervalPredictions predictions from tracks of two or more positions at about s Δt_ref
-// (within 25 %). At each, the filter runs as it would at a frame rate s times lower: Φ forecasts up to
+// (within 25 %). At each, the filter runs as it would at a frame rate s times lower. Φ forecasts up to
 // kCoastingStartFactor times the longest interval it trained on (with histories spaced wider it does
-// worse than constant velocity: design §1.9), and
-// beyond that the track coasts by constant velocity (up to twice the last interval calibrated). Each
+// worse than constant velocity: design §1.9), and only while it predicts better than constant
+// velocity: at each such interval the filter also runs with every track coasting by constant velocity
+// under the same Q, and from the first interval where that has the smaller mean error ‖r‖ on, the
+// tracks coast by constant velocity (up to twice the last interval calibrated; the model's
+// widest_history_spacing() then ends between Φ's last node and the coasting curve's first). Each
 // interval gives a node of the curve its predictions followed, Φ's or the coasting one:
 //     Q_s = Q_prev + ⌊E[(sΔt_ref/Δt)² (r rᵀ − P̂_last − P_y)] − Q_prev⌋₊
 // (⌊·⌋₊: negative eigenvalues set to 0, so that Q never shrinks with the interval along a curve;
@@ -80,6 +83,9 @@ struct IntervalCalibration {
   std::size_t predictions = 0;
   double prior_nees = 0.0;     // of the predictions at this interval, under Q before this node
   double prior_error = 0.0;    // mean ‖r‖ (m)
+  // Where Φ and constant velocity were both run at this interval (under the same Q): the mean ‖r‖ of
+  // the one not chosen; 0 where only one was run.
+  double rival_error = 0.0;
   Matrix3d process_noise = Matrix3d::Zero();
 };
 struct IntervalCalibrations {

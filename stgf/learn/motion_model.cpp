@@ -305,7 +305,8 @@ Matrix3d MotionModel::process_noise(double dt) const {
 }
 
 double MotionModel::widest_history_spacing() const {
-  return motion_model_widest_history_spacing(impl_->normalisation, impl_->coasting_process_noise);
+  return motion_model_widest_history_spacing(impl_->normalisation, impl_->process_noise_period,
+                                             impl_->process_noise_intervals, impl_->coasting_process_noise);
 }
 
 double MotionModel::coasting_horizon() const {

@@ -250,10 +250,14 @@ double motion_model_coasting_horizon(const MotionNormalisation& normalisation,
   return std::max(horizon, kHorizonFactor * coasting_process_noise.back().interval);
 }
 
-double motion_model_widest_history_spacing(const MotionNormalisation& normalisation,
+double motion_model_widest_history_spacing(const MotionNormalisation& normalisation, double process_noise_period,
+                                           std::span<const IntervalNoise> process_noise_intervals,
                                            std::span<const IntervalNoise> coasting_process_noise) {
   if (coasting_process_noise.empty()) return std::numeric_limits<double>::infinity();
-  return kCoastingStartFactor * normalisation.longest_interval;
+  const double forecast_end =
+      process_noise_intervals.empty() ? process_noise_period : process_noise_intervals.back().interval;
+  return std::min(kCoastingStartFactor * normalisation.longest_interval,
+                  std::sqrt(forecast_end * coasting_process_noise.front().interval));
 }
 
 TrainedMotionModel TrainedMotionModel::load(const std::string& path) {

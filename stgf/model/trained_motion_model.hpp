@@ -74,9 +74,14 @@ struct MotionModelSettings {
 // at, when there is one (and it is beyond Φ's horizon); else Φ's horizon.
 double motion_model_coasting_horizon(const MotionNormalisation& normalisation,
                                      std::span<const IntervalNoise> coasting_process_noise);
-// kCoastingStartFactor times the longest interval Φ trained on when constant velocity can take over
-// (there are coasting nodes), else infinite.
-double motion_model_widest_history_spacing(const MotionNormalisation& normalisation,
+// The widest history spacing Φ forecasts from. Infinite without coasting nodes (constant velocity
+// cannot take over); else where Φ's curve of Q ends and the coasting curve starts, the geometric mean
+// of Φ's last calibrated interval (Δt_ref without nodes) and the coasting curve's first (the
+// calibration starts the coasting curve at the first interval where constant velocity predicted
+// better than Φ, or beyond kCoastingStartFactor times the longest interval Φ trained on), and never
+// beyond kCoastingStartFactor times that longest interval.
+double motion_model_widest_history_spacing(const MotionNormalisation& normalisation, double process_noise_period,
+                                           std::span<const IntervalNoise> process_noise_intervals,
                                            std::span<const IntervalNoise> coasting_process_noise);
 // The `config` text of a model file, and back (std::invalid_argument with the reason).
 nlohmann::json settings_json(const MotionModelSettings& settings);
@@ -127,7 +132,8 @@ class TrainedMotionModel final : public MotionPredictor {
   double history_spacing() const override { return kHistorySpacingFactor * settings_.normalisation.period; }
   double prediction_horizon() const override { return kHorizonFactor * settings_.normalisation.longest_interval; }
   double widest_history_spacing() const override {
-    return motion_model_widest_history_spacing(settings_.normalisation, settings_.coasting_process_noise);
+    return motion_model_widest_history_spacing(settings_.normalisation, settings_.process_noise_period,
+                                               settings_.process_noise_intervals, settings_.coasting_process_noise);
   }
   double coasting_horizon() const override {
     return motion_model_coasting_horizon(settings_.normalisation, settings_.coasting_process_noise);
