@@ -61,14 +61,16 @@ int run(int argc, char** argv) {
     const double angle = 0.1 * t;  // a slow turn on a 12 m circle
     const Vector3d truth(12.0 * std::sin(angle), 12.0 * (1.0 - std::cos(angle)), 0.0);
 
-    // The measurements of this step, each describing itself (scene, time, view, object, z, R).
+    // The measurements of this step, each describing itself (scene, time, view, object, z, R; no
+    // sensor position, no arrival time).
     std::vector<stgf::Measurement> step;
     if (k != 8) {
       step.push_back({"demo", t, "east", "walker", Gaussian3::from_covariance(noisy(truth, east_noise), east_noise),
-                      std::nullopt});
+                      std::nullopt, std::nullopt});
       if (k >= 5) {
         step.push_back({"demo", t, "north", "walker",
-                        Gaussian3::from_covariance(noisy(truth, north_noise), north_noise), std::nullopt});
+                        Gaussian3::from_covariance(noisy(truth, north_noise), north_noise), std::nullopt,
+                        std::nullopt});
       }
     }
     std::vector<const stgf::Measurement*> rows;
