@@ -55,7 +55,8 @@ void log_method_report(const std::string& method, const MethodConfig& config, co
   }
   if (report.coasting_predictions > 0) {
     spdlog::info("{}: {} prediction(s) by constant velocity with the model's coasting Q: the object unseen for longer "
-                 "than the model's horizon of {:.2f} s, or its history spaced wider than {:.2f} s (1.25 times the longest interval it trained on)",
+                 "than the model's horizon of {:.2f} s, or its history spaced wider than {:.2f} s (where the model's "
+                 "calibration hands its forecasts over to constant velocity)",
                  method, report.coasting_predictions, model->prediction_horizon(), model->widest_history_spacing());
   }
   log_gating(method, config.ours.gate, report.gating);

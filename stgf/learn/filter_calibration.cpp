@@ -168,18 +168,16 @@ FilterCalibration calibrate_filter_process_noise(MotionModel& model, const Regis
     }
     // The moment of interval_moment over every residual, written out here: folding the two together
     // moved the last bits of every model's Q.
+    const PredictionScore scored = score(residuals, model);
     FilterCalibrationRound report;
+    report.prior_nees = scored.nees;
+    report.prior_error = scored.error;
     Matrix3d moment = Matrix3d::Zero();
     for (const Residual& residual : residuals) {
-      const Matrix3d covariance = residual.known_covariance + model.process_noise(residual.dt);
-      report.prior_nees += residual.error.dot(covariance.ldlt().solve(residual.error));
-      report.prior_error += residual.error.norm();
       const double scale = (calibration.period / residual.dt) * (calibration.period / residual.dt);
       moment += scale * (residual.error * residual.error.transpose() - residual.known_covariance);
     }
     const auto n = static_cast<double>(residuals.size());
-    report.prior_nees /= n;
-    report.prior_error /= n;
     const Eigen::SelfAdjointEigenSolver<Matrix3d> eigen(symmetrised(moment / n));
     const Vector3d floored = eigen.eigenvalues().cwiseMax(kProcessNoiseFloor);
     Matrix3d measured = eigen.eigenvectors() * floored.asDiagonal() * eigen.eigenvectors().transpose();
@@ -225,15 +223,15 @@ IntervalCalibrations calibrate_process_noise_intervals(MotionModel& model, const
     // Round 0 of Φ's curve; then constant velocity at τ under the same Q (a coasting curve that starts
     // at τ makes every track of the thinned split coast): Φ's curve ends where it predicts worse.
     std::optional<IntervalMoment> first;
-    if (!calibration.coasting) {
-      first = measure(false);
+    if (!calibration.coasting) first = measure(false);
+    if (first) {
       model.set_process_noise_intervals(forecast_nodes, {{tau, model.process_noise(tau)}});
       const std::optional<IntervalMoment> rival = measure(true);
       model.set_process_noise_intervals(forecast_nodes, coasting_nodes);
-      if (first && rival) {
-        calibration.rival_error = rival->error;
-        if (rival->error < first->error) {
-          calibration.rival_error = first->error;
+      if (rival) {
+        const bool constant_velocity_wins = rival->error < first->error;
+        calibration.rival_error = constant_velocity_wins ? first->error : rival->error;
+        if (constant_velocity_wins) {
           calibration.coasting = forecasts_lost = true;
           first = rival;
         }
