@@ -270,7 +270,9 @@ void SceneFilter::start(Event& event) {
       continue;
     }
     ObjectTrack& track = state_.tracks[key_of(measurement)];
-    if (!track.empty() && event.time - track.state().time > predictor_.coasting_horizon()) {
+    if (track.started_in_conflict()) {
+      track.clear();  // no start for a velocity (object_track.hpp): starts again here, before any forecast reads it
+    } else if (!track.empty() && event.time - track.state().time > predictor_.coasting_horizon()) {
       track.clear();  // unseen for too long: starts again, like an object never seen
       ++state_.restarted_tracks;
     } else if (track.coasts_to(event.time, predictor_)) {
@@ -480,7 +482,6 @@ void SceneFilter::process_joint(Event& event) {
     const std::string& object = event.rows[first].measurement.object;
     const std::span<Row> rows(event.rows.data() + first, end - first);
     ObjectTrack& track = *event.tracks[g].track;
-    if (track.started_in_conflict()) track.clear();
     std::vector<Gaussian3> alone;  // with the gate: each measurement alone, corrected for its view's offset
     if (gate_.enabled()) {
       for (const Row& row : rows) alone.push_back(state_.joint.corrected(row.measurement, noise_scale(row.measurement.view)));
@@ -489,6 +490,9 @@ void SceneFilter::process_joint(Event& event) {
     std::optional<ObjectTrack::Motion> motion;
     std::vector<JointRegistration::Innovation> innovations;  // against the prediction, when gated by it
     std::vector<double> distances;
+    // The first fused measurement of a frame teaches the scale of Q (§1.2), with its innovation against
+    // the prediction from two or more history positions.
+    bool teaches_process_noise = false;
     if (!track.empty()) {
       motion = track.motion_to(time, predictor_, scale, constant_velocity);
       const Gaussian3 state = state_.joint.position(object);
@@ -498,8 +502,8 @@ void SceneFilter::process_joint(Event& event) {
           Gaussian3::from_covariance(state.mean() + motion->displacement, state.covariance() + motion->covariance),
           state.covariance(), motion->process_noise, motion->interval, track.history().size()};
       // Innovations against the prediction: every row's for the gate, else the first row's to teach Q.
-      const bool teaches_process_noise = !track.has_frame() && learns_motion() && track.history().size() >= 2 &&
-                                         !track.coasts_to(time, predictor_);
+      teaches_process_noise = !track.has_frame() && learns_motion() && track.history().size() >= 2 &&
+                              !track.coasts_to(time, predictor_);
       const bool gated = gate_.enabled() && gates_against_prediction(track);
       if (gated || teaches_process_noise) {
         for (const Row& row : rows) {
@@ -529,10 +533,7 @@ void SceneFilter::process_joint(Event& event) {
       ++state_.gate_restarts;
       prediction.reset();
     }
-    // The first fused measurement of a frame teaches the scale of Q, with its innovation against the
-    // prediction.
-    if (!track.empty() && !track.has_frame() && track.history().size() >= 2 && learns_motion() &&
-        !track.coasts_to(time, predictor_)) {
+    if (teaches_process_noise && !track.empty()) {  // (a restart above has emptied it)
       const auto passed = std::find(decision.passes.begin(), decision.passes.end(), true);
       if (passed != decision.passes.end()) {
         const JointRegistration::Innovation& innovation = innovations[static_cast<std::size_t>(passed - decision.passes.begin())];
@@ -665,7 +666,6 @@ void SceneFilter::process(Event& event) {
     std::optional<TrackPrediction> reference_prediction;
     for (std::size_t t = 0; t < track_count; ++t) {
       ObjectTrack& track = state_.tracks[key_of(event.rows[first + t].measurement)];
-      if (track.started_in_conflict()) track.clear();
       if (!track.empty() && !reference) reference = &track;
     }
     std::vector<double> distances;
