@@ -192,11 +192,13 @@ void ensure_benchmark(const std::string& name, const fs::path& folder, const Rep
 
 void ensure_model(const std::string& name, const fs::path& benchmark, const fs::path& model, const std::string& input,
                   const ReproduceOptions& options, std::map<std::string, double>& timings) {
-  const nlohmann::json recipe = {{"benchmark", benchmark_recipe(name, options)},
-                                 {"input", input},
-                                 {"epochs", epochs_of(options)},
-                                 {"seed", options.seed},
-                                 {"training_recipe_version", kTrainingRecipeVersion}};
+  nlohmann::json recipe = {{"benchmark", benchmark_recipe(name, options)},
+                           {"input", input},
+                           {"epochs", epochs_of(options)},
+                           {"seed", options.seed},
+                           {"training_recipe_version", kTrainingRecipeVersion}};
+  // Fused models calibrate Q in the filter, also at longer intervals (stgf train's default).
+  if (input == "fused") recipe["long_intervals_s"] = kDefaultLongIntervals;
   const fs::path stamp = fs::path(model.string() + ".recipe.json");
   if (const auto seconds = stamp_matches(stamp, recipe); seconds && fs::exists(model)) {
     spdlog::info("  model: reusing {}", model.string());

@@ -48,8 +48,9 @@ void log_method_report(const std::string& method, const MethodConfig& config, co
                    method, report.restarted_tracks - report.gating.restarts, model->coasting_horizon());
     } else {
       spdlog::info("{}: {} track(s) started again: the object had not been seen for longer than the model's horizon "
-                   "of {:.2f} s (twice the longest interval it trained on; `stgf train --long-intervals` calibrates "
-                   "Q for tracks to coast further by constant velocity)",
+                   "of {:.2f} s (twice the longest interval it trained on; a model trained with `stgf train "
+                   "--long-intervals` above 0, the default, has Q calibrated for tracks to coast further by constant "
+                   "velocity)",
                    method, report.restarted_tracks - report.gating.restarts, model->prediction_horizon());
     }
   }

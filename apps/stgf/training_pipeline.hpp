@@ -25,6 +25,10 @@
 
 namespace stgf::cli {
 
+// `stgf train --long-intervals`'s default (s): a track may miss frames for up to about twice this and
+// coast instead of starting again (design §1.9).
+inline constexpr double kDefaultLongIntervals = 2.0;
+
 struct ModelTraining {
   // Folders with train/ and val/; with several, Φ trains on all their training splits together,
   // and the registration prior and Q are calibrated on all their validation splits together.
@@ -38,8 +42,9 @@ struct ModelTraining {
   // here (1 = as recorded), so it predicts at lower frame rates too.
   std::vector<int> strides = {1, 2, 3};
   bool rotate = false;  // turn each training graph by a random heading every epoch (MotionTrainingOptions::rotate)
-  // Q also calibrated at intervals up to this many seconds (calibrate_process_noise_intervals); 0: off.
-  double long_intervals = 0.0;
+  // Q also calibrated at intervals up to this many seconds (calibrate_process_noise_intervals), so that
+  // tracks coast across missed frames and low frame rates; 0: off.
+  double long_intervals = kDefaultLongIntervals;
   MotionTrainingOptions training;
 };
 
