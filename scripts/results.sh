@@ -49,8 +49,9 @@ cp "$out"/figures/*.svg "$out"/figures/*.png docs/figures/
   0.142857 --q 0.01 0.03 0.06 0.1`, seed 1: 1.13, 1.17, 1.19, 1.21). Giving each view a constant
   offset, which the filter estimates with the motion, does not bring it nearer 1.10 on `mpl`: the
   offsets lower `wls`/`ours` (the views' mean carries them), and where `ours-l`/`ours` is `mpl`'s
-  (1.53 against 1.54), `wls`/`ours` falls to 1.23 against 1.40 (`--q 0.03 0.1 0.3 --offset 0.03 0.06 --scenes 100`: offset 0.03 m,
-  q 0.1, async/sync 1.17), so `mpl` sits nearest the rows without offsets. So about 1.18 is what the best
+  (1.53 against 1.54), `wls`/`ours` falls to 1.23 against 1.40 (`--q 0.03 0.1 0.3 --offset 0.03
+  0.06 --scenes 100`: offset 0.03 m, q 0.1, async/sync 1.17), so `mpl` sits nearest the rows
+  without offsets. So about 1.18 is what the best
   live estimate of such motion pays on `mpl`; `ours` pays 1.36, and the rest (about 15 %) is what a
   better prediction within a frame could still win. Only a non-live answer (a smoother that waits for
   the rest of the frame) could come near the synchronous error.
