@@ -278,6 +278,56 @@ TEST(SpatiotemporalGraphFilter, AStartFromConflictingMeasurementsIsWideAndNoStar
   }
 }
 
+// Constant velocity, recording every object of every motion graph it is asked to forecast.
+class RecordingPredictor final : public MotionPredictor {
+ public:
+  std::vector<std::vector<MotionForecast>> forecast(std::span<const MotionGraph> graphs) const override {
+    for (const MotionGraph& graph : graphs) {
+      for (const ObjectHistory& object : graph.objects) seen.emplace_back(graph.target_time, object.object);
+    }
+    return inner_.forecast(graphs);
+  }
+  Matrix3d process_noise(double dt) const override { return inner_.process_noise(dt); }
+  int history_positions() const override { return inner_.history_positions(); }
+  double history_spacing() const override { return inner_.history_spacing(); }
+  double typical_speed() const override { return inner_.typical_speed(); }
+  double prediction_horizon() const override { return inner_.prediction_horizon(); }
+  mutable std::vector<std::pair<double, std::string>> seen;  // (graph time, object)
+
+ private:
+  ConstantVelocityPredictor inner_{0.01, 1.0};
+};
+
+// A track started from conflicting measurements starts again at its object's next time, before the
+// forecasts of that time are asked for: its one position, a mixture of the views, is no neighbour for
+// the other objects' forecasts either.
+TEST(SpatiotemporalGraphFilter, AConflictingStartIsNoNeighbourInTheNextForecast) {
+  const RecordingPredictor predictor;
+  SpatiotemporalGraphFilter filter(predictor, gate_on());
+  const Matrix3d r = 0.01 * Matrix3d::Identity();
+  for (int k = 0; k < 3; ++k) {
+    const double t = 0.1 * k;
+    std::vector<Measurement> rows;
+    for (const char* object : {"o", "p"}) {
+      const Vector3d truth(1.0 * t, object == std::string("p") ? 5.0 : 0.0, 0.0);
+      for (const char* view : {"a", "b"}) {
+        const bool off = k == 0 && object == std::string("p") && view == std::string("b");
+        const Vector3d z = truth + Vector3d(off ? 10.0 : 0.0, 0.0, 0.0);
+        rows.push_back(Measurement{"s", t, view, object, Gaussian3::from_covariance(z, r), std::nullopt, std::nullopt});
+      }
+    }
+    step(filter, t, rows);
+  }
+  bool o_at_first_forecast = false;
+  for (const auto& [time, object] : predictor.seen) {
+    if (std::abs(time - 0.1) < 1e-9) {
+      EXPECT_NE(object, "p") << "the conflicting start of p was offered to Φ at 0.1 s";
+      if (object == "o") o_at_first_forecast = true;
+    }
+  }
+  EXPECT_TRUE(o_at_first_forecast);
+}
+
 // An object seen by one view, whose second measurement is 10 m off. With the gate, it is checked
 // against the prediction from the one position before it (velocity unknown, a typical speed's spread),
 // fails, and the track starts again from it at once; the next measurement, on the object again, fails
