@@ -93,8 +93,17 @@ SceneFilter::SceneFilter(const MotionPredictor& predictor, const FilterOptions& 
     : predictor_(predictor),
       options_(options),
       gate_(options.gate),
-      state_{{}, ViewRegistration(options.registration), JointRegistration(options.registration), {},
-             MotionChoice(options.motion_fallback), {}, 0, 0, {}},
+      state_{.tracks = {},
+             .registration = ViewRegistration(options.registration),
+             .joint = JointRegistration(options.registration),
+             .process_noise_scale = {},
+             .coasting_scale = {},
+             .motion_choice = MotionChoice(options.motion_fallback),
+             .view_noise = {},
+             .restarted_tracks = 0,
+             .coasting_predictions = 0,
+             .gate_restarts = 0,
+             .applied_releases = {}},
       latest_time_(-std::numeric_limits<double>::infinity()) {
   if (!std::isfinite(options.lag_window) || options.lag_window < 0.0) {
     throw std::invalid_argument("the lag window must be finite and >= 0 seconds");
@@ -443,6 +452,11 @@ const ProcessNoiseScale& SceneFilter::followed_scale() const {
   return follows_constant_velocity() ? state_.motion_choice.fallback_scale() : state_.process_noise_scale;
 }
 
+void SceneFilter::learn_coasting(const Vector3d& innovation, const Matrix3d& known_covariance,
+                                 const Matrix3d& process_noise) {
+  if (options_.adapt_process_noise) state_.coasting_scale.add(innovation, known_covariance, process_noise);
+}
+
 void SceneFilter::learn_motion(bool constant_velocity, const Vector3d& innovation,
                                const Matrix3d& known_covariance, const Matrix3d& process_noise,
                                const Vector3d& displacement_difference) {
@@ -466,6 +480,7 @@ void SceneFilter::process_joint(Event& event) {
   const double time = event.time;
   const bool constant_velocity = follows_constant_velocity();  // as the earlier events decided
   const ProcessNoiseScale scale = followed_scale();              // λ from the earlier events
+  const ProcessNoiseScale coasting_scale = state_.coasting_scale;
   ViewNoiseScales& view_noise = state_.view_noise;
   struct Checked {
     std::size_t first, end;  // its rows
@@ -491,10 +506,13 @@ void SceneFilter::process_joint(Event& event) {
     std::vector<JointRegistration::Innovation> innovations;  // against the prediction, when gated by it
     std::vector<double> distances;
     // The first fused measurement of a frame teaches the scale of Q (§1.2), with its innovation against
-    // the prediction from two or more history positions.
+    // the prediction from two or more history positions: Φ's λ (or constant velocity's, §1.13), or the
+    // coasting λ when the track coasts.
     bool teaches_process_noise = false;
+    bool coasting = false;
     if (!track.empty()) {
-      motion = track.motion_to(time, predictor_, scale, constant_velocity);
+      coasting = track.coasts_to(time, predictor_);
+      motion = track.motion_to(time, predictor_, coasting ? coasting_scale : scale, constant_velocity);
       const Gaussian3 state = state_.joint.position(object);
       state_.joint.predict(object, motion->displacement, motion->covariance);
       // The predicted position: p_i + d, Σ_ii + Q (what position() now gives, without recomputing it).
@@ -502,8 +520,8 @@ void SceneFilter::process_joint(Event& event) {
           Gaussian3::from_covariance(state.mean() + motion->displacement, state.covariance() + motion->covariance),
           state.covariance(), motion->process_noise, motion->interval, track.history().size()};
       // Innovations against the prediction: every row's for the gate, else the first row's to teach Q.
-      teaches_process_noise = !track.has_frame() && learns_motion() && track.history().size() >= 2 &&
-                              !track.coasts_to(time, predictor_);
+      teaches_process_noise = !track.has_frame() && track.history().size() >= 2 &&
+                              (coasting ? options_.adapt_process_noise : learns_motion());
       const bool gated = gate_.enabled() && gates_against_prediction(track);
       if (gated || teaches_process_noise) {
         for (const Row& row : rows) {
@@ -537,9 +555,12 @@ void SceneFilter::process_joint(Event& event) {
       const auto passed = std::find(decision.passes.begin(), decision.passes.end(), true);
       if (passed != decision.passes.end()) {
         const JointRegistration::Innovation& innovation = innovations[static_cast<std::size_t>(passed - decision.passes.begin())];
-        learn_motion(constant_velocity, innovation.value, innovation.covariance - motion->covariance,
-                     motion->process_noise,
-                     motion->displacement - track.displacement_to(time, !constant_velocity));
+        if (coasting) {
+          learn_coasting(innovation.value, innovation.covariance - motion->covariance, motion->process_noise);
+        } else {
+          learn_motion(constant_velocity, innovation.value, innovation.covariance - motion->covariance,
+                       motion->process_noise, motion->displacement - track.displacement_to(time, !constant_velocity));
+        }
       }
     }
     const Matrix3d spread = decision.conflicting ? conflict_spread(alone) : Matrix3d::Zero();
@@ -623,8 +644,10 @@ void SceneFilter::process(Event& event) {
   const double time = event.time;
   const bool constant_velocity = follows_constant_velocity();  // as the earlier events decided
   const ProcessNoiseScale scale = followed_scale();              // λ from the earlier events
+  const ProcessNoiseScale coasting_scale = state_.coasting_scale;
   ViewNoiseScales& view_noise = state_.view_noise;
   struct Innovation {
+    bool coasting;
     Vector3d value;
     Matrix3d known_covariance;        // P̂_s + R
     Matrix3d process_noise;           // Q(τ) − Q(τ_s)
@@ -728,7 +751,7 @@ void SceneFilter::process(Event& event) {
       ObjectTrack& track = state_.tracks[key_of(event.rows[first + t].measurement)];
       std::optional<TrackPrediction> prediction;
       const bool coasting = track.coasts_to(time, predictor_);
-      if (!track.empty()) prediction = track.predict(time, predictor_, scale, constant_velocity);
+      if (!track.empty()) prediction = track.predict(time, predictor_, coasting ? coasting_scale : scale, constant_velocity);
       if (!prediction && !combined) {
         // kPerView: this view's track is empty and every measurement failed the gate against another
         // view's track: nothing to start it from; the row gets that track's prediction.
@@ -742,9 +765,9 @@ void SceneFilter::process(Event& event) {
                               : registration ? multi_view_update(prediction->prior, std::span(&*combined, 1))
                                              : multi_view_update(prediction->prior, positions);
       const bool opens_frame = !track.has_frame();
-      if (opens_frame && prediction && combined && prediction->history_positions >= 2 && learns_motion() && !coasting &&
-          !innovation) {
-        innovation = Innovation{combined->mean() - prediction->prior.mean(),
+      if (opens_frame && prediction && combined && prediction->history_positions >= 2 &&
+          (coasting ? options_.adapt_process_noise : learns_motion()) && !innovation) {
+        innovation = Innovation{coasting, combined->mean() - prediction->prior.mean(),
                                 prediction->state_covariance + combined->covariance(), prediction->process_noise,
                                 track.displacement_to(time, constant_velocity) - track.displacement_to(time, !constant_velocity)};
       }
@@ -762,8 +785,12 @@ void SceneFilter::process(Event& event) {
   }
   if (options_.tracks == TrackMode::kPerView && registration) state_.registration.learn(fused_rows);
   for (const Innovation& innovation : innovations) {
-    learn_motion(constant_velocity, innovation.value, innovation.known_covariance, innovation.process_noise,
-                 innovation.displacement_difference);
+    if (innovation.coasting) {
+      learn_coasting(innovation.value, innovation.known_covariance, innovation.process_noise);
+    } else {
+      learn_motion(constant_velocity, innovation.value, innovation.known_covariance, innovation.process_noise,
+                   innovation.displacement_difference);
+    }
   }
 }
 

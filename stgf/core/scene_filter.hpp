@@ -40,7 +40,8 @@
 //   4. per object whose frame opens here with a prediction from two or more history positions, the
 //      innovation of its (first) measurement teaches the scale of Q (process_noise_scale.hpp) and
 //      weighs the motion model's prediction against constant velocity's (motion_choice.hpp); from
-//      the next event on, the scene's tracks follow the one the evidence favours.
+//      the next event on, the scene's tracks follow the one the evidence favours. A coasting track's
+//      innovation teaches the scale of the coasting Q alone (a λ of its own).
 // On synchronised views at the model's rate a frame is one event, and this is DESIGN §1's filter.
 // Within an event, rows are taken in (object, view) order, so the result does not depend on the order
 // in which they were given.
@@ -177,6 +178,8 @@ class SceneFilter {
   const ViewNoiseScales& view_noise_scales() const { return state_.view_noise; }
   std::size_t gate_restarts() const { return state_.gate_restarts; }
   const Vector3d& process_noise_scales() const { return state_.process_noise_scale.scales(); }
+  // λ per world axis of the coasting tracks' Q (design §1.9), taught by their own innovations.
+  const Vector3d& coasting_noise_scales() const { return state_.coasting_scale.scales(); }
   // Which motion the tracks follow, and the evidence for it (motion_choice.hpp).
   const MotionChoice& motion_choice() const { return state_.motion_choice; }
   // The estimated registration offset of a view (t, δ; zero for a zero prior or an unknown view).
@@ -213,6 +216,8 @@ class SceneFilter {
     ViewRegistration registration;  // kPerView
     JointRegistration joint;        // kPerObject, with a registration prior
     ProcessNoiseScale process_noise_scale;
+    // λ of the coasting tracks' Q (their own curve: design §1.9), taught by their innovations alone.
+    ProcessNoiseScale coasting_scale;
     MotionChoice motion_choice;
     ViewNoiseScales view_noise;
     std::size_t restarted_tracks = 0;
@@ -244,6 +249,8 @@ class SceneFilter {
   // Whether this event's tracks follow constant velocity, and the λ of the motion they follow.
   bool follows_constant_velocity() const;
   const ProcessNoiseScale& followed_scale() const;
+  // Step 4 for a coasting track: its innovation teaches the coasting λ only.
+  void learn_coasting(const Vector3d& innovation, const Matrix3d& known_covariance, const Matrix3d& process_noise);
   // Whether step 4 takes samples at all.
   bool learns_motion() const { return options_.adapt_process_noise || state_.motion_choice.compares(); }
   // Step 4 for one sample: whether the event's predictions followed constant velocity (read at the

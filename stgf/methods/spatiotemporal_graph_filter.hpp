@@ -53,6 +53,7 @@ class SpatiotemporalGraphFilter final : public Localizer {
   std::size_t rewinds() const { return filter_.rewinds(); }  // went back in time for a late measurement
   std::size_t refilters() const { return filter_.refilters(); }  // went back for what the gate learnt of a view
   const Vector3d& process_noise_scales() const { return filter_.process_noise_scales(); }
+  const Vector3d& coasting_noise_scales() const { return filter_.coasting_noise_scales(); }
   // Which motion the tracks follow (core/motion_choice.hpp).
   const MotionChoice& motion_choice() const { return filter_.motion_choice(); }
   // What the χ² gate did (core/measurement_gate.hpp, core/view_noise_scales.hpp).

@@ -206,6 +206,68 @@ TEST(SpatiotemporalGraphFilter, AdaptsQWhenPredictionsAreWorseThanItSays) {
   EXPECT_GT(nees_fixed / count, 50.0);
 }
 
+// Constant velocity that hands every track with two history positions to coasting (its widest history
+// spacing is below the step): Φ's Q and the coasting Q are both far too small.
+class CoastingPredictor final : public MotionPredictor {
+ public:
+  std::vector<std::vector<MotionForecast>> forecast(std::span<const MotionGraph> graphs) const override {
+    return inner_.forecast(graphs);
+  }
+  Matrix3d process_noise(double dt) const override { return inner_.process_noise(dt); }
+  Matrix3d coasting_process_noise(double dt) const override { return inner_.process_noise(dt); }
+  int history_positions() const override { return inner_.history_positions(); }
+  double history_spacing() const override { return inner_.history_spacing(); }
+  double typical_speed() const override { return inner_.typical_speed(); }
+  double prediction_horizon() const override { return inner_.prediction_horizon(); }
+  double widest_history_spacing() const override { return 0.05; }
+
+ private:
+  ConstantVelocityPredictor inner_{1e-4, 1.0};
+};
+
+// The same with tracks that coast (design §1.9): their innovations teach the coasting λ, which scales
+// the coasting Q, and Φ's λ stays as it was. With one track per object and offsets estimated jointly,
+// and without offsets.
+TEST(SpatiotemporalGraphFilter, AdaptsTheCoastingQWhenCoastingIsWorseThanItSays) {
+  for (const bool joint : {false, true}) {
+    const CoastingPredictor predictor;
+    FilterOptions adaptive_options, fixed_options;
+    fixed_options.adapt_process_noise = false;
+    adaptive_options.gate.enabled = fixed_options.gate.enabled = false;  // as above
+    if (joint) adaptive_options.registration.translation_sigma = fixed_options.registration.translation_sigma = Vector3d(0.01, 0.01, 0.0);
+    SpatiotemporalGraphFilter adaptive(predictor, adaptive_options), fixed(predictor, fixed_options);
+    std::mt19937_64 random(9);
+    std::normal_distribution<double> normal;
+    const Matrix3d r = 0.01 * Matrix3d::Identity();
+    double nees_adaptive = 0.0, nees_fixed = 0.0;
+    int count = 0;
+    for (int k = 0; k < 60; ++k) {
+      const double t = 0.1 * k;
+      const Vector3d truth(3.0 * std::cos(t * 2.0), 3.0 * std::sin(t * 2.0), 0.0);
+      std::vector<Measurement> rows;
+      for (const char* view : {"a", "b"}) {
+        const Vector3d z = truth + 0.1 * Vector3d(normal(random), normal(random), normal(random));
+        rows.push_back(Measurement{"s", t, view, "o", Gaussian3::from_covariance(z, r), std::nullopt});
+      }
+      const Gaussian3 a = step(adaptive, t, rows)[0];
+      const Gaussian3 f = step(fixed, t, rows)[0];
+      if (k >= 10) {
+        nees_adaptive += a.mahalanobis_squared(truth);
+        nees_fixed += f.mahalanobis_squared(truth);
+        ++count;
+      }
+    }
+    EXPECT_GT(adaptive.coasting_noise_scales().x(), 100.0) << "joint " << joint;
+    EXPECT_GT(adaptive.coasting_noise_scales().y(), 100.0) << "joint " << joint;
+    EXPECT_EQ(adaptive.process_noise_scales(), Vector3d::Ones()) << "joint " << joint;
+    EXPECT_EQ(fixed.coasting_noise_scales(), Vector3d::Ones()) << "joint " << joint;
+    // Jointly, the offsets (estimated with every position) take up part of the prediction errors
+    // while λ is still small, and the NEES settles a little higher.
+    EXPECT_LT(nees_adaptive / count, joint ? 8.0 : 6.0) << "joint " << joint;
+    EXPECT_GT(nees_fixed / count, 50.0) << "joint " << joint;
+  }
+}
+
 }  // namespace stgf
 
 namespace stgf {
