@@ -66,7 +66,7 @@ for b in mpl cad; do
     echo "What training found (\`stgf train\`'s log):"
     echo
     echo '```'
-    grep -E "registration error|best epoch|Q in the filter" "$out/$b-train.log" | sed -n '1,2p;$p' | sed 's/^stgf: //'
+    grep -E "registration error|best epoch|Q in the filter on the validation split: " "$out/$b-train.log" | sed -n '1,2p;$p' | sed 's/^stgf: //'
     echo '```'
     echo
     echo "The model trained with the truth (\`$models/$b.pt\`) has the prior:"
