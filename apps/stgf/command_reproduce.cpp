@@ -192,13 +192,20 @@ void ensure_benchmark(const std::string& name, const fs::path& folder, const Rep
 
 void ensure_model(const std::string& name, const fs::path& benchmark, const fs::path& model, const std::string& input,
                   const ReproduceOptions& options, std::map<std::string, double>& timings) {
+  ModelTraining training;
+  training.benchmarks = {benchmark.string()};
+  training.out = model.string();
+  training.input = input;
+  training.training.epochs = epochs_of(options);
+  training.training.seed = options.seed;
+  training.training.threads = options.threads;
   nlohmann::json recipe = {{"benchmark", benchmark_recipe(name, options)},
                            {"input", input},
-                           {"epochs", epochs_of(options)},
+                           {"epochs", training.training.epochs},
                            {"seed", options.seed},
                            {"training_recipe_version", kTrainingRecipeVersion}};
   // Fused models calibrate Q in the filter, also at longer intervals (stgf train's default).
-  if (input == "fused") recipe["long_intervals_s"] = kDefaultLongIntervals;
+  if (input == "fused") recipe["long_intervals_s"] = training.long_intervals;
   const fs::path stamp = fs::path(model.string() + ".recipe.json");
   if (const auto seconds = stamp_matches(stamp, recipe); seconds && fs::exists(model)) {
     spdlog::info("  model: reusing {}", model.string());
@@ -208,13 +215,6 @@ void ensure_model(const std::string& name, const fs::path& benchmark, const fs::
   spdlog::info("  model: training {} on {} histories ({} epochs)", model.string(), input, epochs_of(options));
   const Stopwatch watch;
   fs::create_directories(model.parent_path());
-  ModelTraining training;
-  training.benchmarks = {benchmark.string()};
-  training.out = model.string();
-  training.input = input;
-  training.training.epochs = epochs_of(options);
-  training.training.seed = options.seed;
-  training.training.threads = options.threads;
   train_model(training);
   timings["train " + input + " model"] = watch.seconds();
   write_stamp(stamp, recipe, timings["train " + input + " model"]);

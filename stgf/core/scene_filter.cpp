@@ -452,9 +452,14 @@ const ProcessNoiseScale& SceneFilter::followed_scale() const {
   return follows_constant_velocity() ? state_.motion_choice.fallback_scale() : state_.process_noise_scale;
 }
 
-void SceneFilter::learn_coasting(const Vector3d& innovation, const Matrix3d& known_covariance,
-                                 const Matrix3d& process_noise) {
-  if (options_.adapt_process_noise) state_.coasting_scale.add(innovation, known_covariance, process_noise);
+void SceneFilter::learn_sample(bool coasting, bool constant_velocity, const Vector3d& innovation,
+                               const Matrix3d& known_covariance, const Matrix3d& process_noise,
+                               const Vector3d& displacement_difference) {
+  if (coasting) {
+    state_.coasting_scale.add(innovation, known_covariance, process_noise);
+  } else {
+    learn_motion(constant_velocity, innovation, known_covariance, process_noise, displacement_difference);
+  }
 }
 
 void SceneFilter::learn_motion(bool constant_velocity, const Vector3d& innovation,
@@ -520,8 +525,7 @@ void SceneFilter::process_joint(Event& event) {
           Gaussian3::from_covariance(state.mean() + motion->displacement, state.covariance() + motion->covariance),
           state.covariance(), motion->process_noise, motion->interval, track.history().size()};
       // Innovations against the prediction: every row's for the gate, else the first row's to teach Q.
-      teaches_process_noise = !track.has_frame() && track.history().size() >= 2 &&
-                              (coasting ? options_.adapt_process_noise : learns_motion());
+      teaches_process_noise = !track.has_frame() && track.history().size() >= 2 && learns_from(coasting);
       const bool gated = gate_.enabled() && gates_against_prediction(track);
       if (gated || teaches_process_noise) {
         for (const Row& row : rows) {
@@ -555,12 +559,8 @@ void SceneFilter::process_joint(Event& event) {
       const auto passed = std::find(decision.passes.begin(), decision.passes.end(), true);
       if (passed != decision.passes.end()) {
         const JointRegistration::Innovation& innovation = innovations[static_cast<std::size_t>(passed - decision.passes.begin())];
-        if (coasting) {
-          learn_coasting(innovation.value, innovation.covariance - motion->covariance, motion->process_noise);
-        } else {
-          learn_motion(constant_velocity, innovation.value, innovation.covariance - motion->covariance,
-                       motion->process_noise, motion->displacement - track.displacement_to(time, !constant_velocity));
-        }
+        learn_sample(coasting, constant_velocity, innovation.value, innovation.covariance - motion->covariance,
+                     motion->process_noise, motion->displacement - track.displacement_to(time, !constant_velocity));
       }
     }
     const Matrix3d spread = decision.conflicting ? conflict_spread(alone) : Matrix3d::Zero();
@@ -765,8 +765,8 @@ void SceneFilter::process(Event& event) {
                               : registration ? multi_view_update(prediction->prior, std::span(&*combined, 1))
                                              : multi_view_update(prediction->prior, positions);
       const bool opens_frame = !track.has_frame();
-      if (opens_frame && prediction && combined && prediction->history_positions >= 2 &&
-          (coasting ? options_.adapt_process_noise : learns_motion()) && !innovation) {
+      if (opens_frame && prediction && combined && prediction->history_positions >= 2 && learns_from(coasting) &&
+          !innovation) {
         innovation = Innovation{coasting, combined->mean() - prediction->prior.mean(),
                                 prediction->state_covariance + combined->covariance(), prediction->process_noise,
                                 track.displacement_to(time, constant_velocity) - track.displacement_to(time, !constant_velocity)};
@@ -785,12 +785,8 @@ void SceneFilter::process(Event& event) {
   }
   if (options_.tracks == TrackMode::kPerView && registration) state_.registration.learn(fused_rows);
   for (const Innovation& innovation : innovations) {
-    if (innovation.coasting) {
-      learn_coasting(innovation.value, innovation.known_covariance, innovation.process_noise);
-    } else {
-      learn_motion(constant_velocity, innovation.value, innovation.known_covariance, innovation.process_noise,
-                   innovation.displacement_difference);
-    }
+    learn_sample(innovation.coasting, constant_velocity, innovation.value, innovation.known_covariance,
+                 innovation.process_noise, innovation.displacement_difference);
   }
 }
 

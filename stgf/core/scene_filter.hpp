@@ -249,10 +249,13 @@ class SceneFilter {
   // Whether this event's tracks follow constant velocity, and the λ of the motion they follow.
   bool follows_constant_velocity() const;
   const ProcessNoiseScale& followed_scale() const;
-  // Step 4 for a coasting track: its innovation teaches the coasting λ only.
-  void learn_coasting(const Vector3d& innovation, const Matrix3d& known_covariance, const Matrix3d& process_noise);
-  // Whether step 4 takes samples at all.
+  // Whether step 4 takes samples at all; from a coasting track, only to adapt the coasting Q.
   bool learns_motion() const { return options_.adapt_process_noise || state_.motion_choice.compares(); }
+  bool learns_from(bool coasting) const { return coasting ? options_.adapt_process_noise : learns_motion(); }
+  // Step 4 for one sample of a track that learns_from(coasting): a coasting track's teaches the
+  // coasting λ alone; any other's goes to learn_motion.
+  void learn_sample(bool coasting, bool constant_velocity, const Vector3d& innovation, const Matrix3d& known_covariance,
+                    const Matrix3d& process_noise, const Vector3d& displacement_difference);
   // Step 4 for one sample: whether the event's predictions followed constant velocity (read at the
   // event's start: the choice may switch part-way through the event's samples), the innovation ν of
   // the motion followed, A = P̂_s + R, Q(τ) − Q(τ_s), and d_followed − d_other, the two motions'
