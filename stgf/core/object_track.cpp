@@ -41,7 +41,7 @@ ObjectTrack::Motion ObjectTrack::motion_to(double time, const MotionPredictor& p
     const double speed = predictor.typical_speed();
     motion.covariance += speed * speed * (tau * tau - tau_state * tau_state) * Matrix3d::Identity();
   }
-  motion.interval = std::sqrt(tau * tau - tau_state * tau_state);
+  motion.interval = tau - tau_state;
   return motion;
 }
 

@@ -26,7 +26,8 @@
 // along one forecast it grows by Q(τ) − Q(τ_s), so a track updated by seven unsynchronised cameras in
 // a frame period accumulates the same process noise over that period as a track updated once by
 // seven synchronised ones (a plain Q(t − t_s) per update would add up to a seventh of it with
-// Q ∝ Δt², and the filter would trust its prediction seven times too much). D = diag(√λ) is the online
+// Q ∝ Δt², and the filter would trust its prediction seven times too much; below the calibration
+// interval Q grows linearly, so there the two agree: process_noise_curve.hpp). D = diag(√λ) is the online
 // scale of Q (process_noise_scale.hpp); s is the predictor's typical speed (the unknown velocity of a
 // short history). Q must grow with its interval, so P ⪰ P̂_s.
 
@@ -51,7 +52,7 @@ struct TrackPrediction {
   Gaussian3 prior;                 // N(x, P)
   Matrix3d state_covariance;       // P̂_s
   Matrix3d process_noise;          // Q(τ) − Q(τ_s), before the scale D (and without the speed term)
-  double interval = 0.0;           // √(τ² − τ_s²): the interval whose Q(Δt) ∝ Δt² equals that increment
+  double interval = 0.0;           // τ − τ_s: the time since the state
   std::size_t history_positions = 0;
 };
 

@@ -6,11 +6,13 @@
 
 namespace stgf {
 
+double reference_growth(double period, double tau) {
+  const double ratio = tau / period;
+  return ratio <= 1.0 ? ratio : ratio * ratio;
+}
+
 Matrix3d process_noise_at(const Matrix3d& reference, double period, std::span<const IntervalNoise> nodes, double tau) {
-  if (nodes.empty() || tau <= period) {
-    const double ratio = tau / period;
-    return reference * (ratio * ratio);
-  }
+  if (nodes.empty() || tau <= period) return reference * reference_growth(period, tau);
   double low_interval = period;
   const Matrix3d* low = &reference;
   for (const IntervalNoise& node : nodes) {

@@ -174,7 +174,9 @@ FilterCalibration calibrate_filter_process_noise(MotionModel& model, const Regis
     report.prior_error = scored.error;
     Matrix3d moment = Matrix3d::Zero();
     for (const Residual& residual : residuals) {
-      const double scale = (calibration.period / residual.dt) * (calibration.period / residual.dt);
+      // Q_ref / Q(dt) by the law without nodes (process_noise_curve.hpp, reference_growth).
+      const double ratio = calibration.period / residual.dt;
+      const double scale = ratio >= 1.0 ? ratio : ratio * ratio;
       moment += scale * (residual.error * residual.error.transpose() - residual.known_covariance);
     }
     const auto n = static_cast<double>(residuals.size());

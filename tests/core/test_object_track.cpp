@@ -40,7 +40,7 @@ TEST(ObjectTrack, MovesMeasurementsAlongTheForecastAndGrowsQByItsIncrement) {
   EXPECT_LT((second.prior.mean() - Vector3d(0.135 + 0.03, 0, 0)).norm(), 1e-12);
   const double growth = 2.0 * (0.06 * 0.06 - 0.03 * 0.03);
   EXPECT_LT((second.prior.covariance() - (p + growth * Matrix3d::Identity())).norm(), 1e-15);
-  EXPECT_NEAR(second.interval * second.interval, 0.06 * 0.06 - 0.03 * 0.03, 1e-15);
+  EXPECT_NEAR(second.interval, 0.03, 1e-15);
   // The increments telescope: Q(0.03) + [Q(0.06) − Q(0.03)] = Q(0.06), as one update at 0.16 would add.
   EXPECT_NEAR(first.process_noise(0, 0) + second.process_noise(0, 0), 2.0 * 0.06 * 0.06, 1e-15);
   // The motion alone, as the joint estimate of positions and offsets applies it.

@@ -13,18 +13,23 @@ namespace {
 
 double largest_difference(const Matrix3d& a, const Matrix3d& b) { return (a - b).cwiseAbs().maxCoeff(); }
 
-TEST(ProcessNoiseCurve, WithoutNodesQGrowsAsTheIntervalSquared) {
+TEST(ProcessNoiseCurve, WithoutNodesQGrowsLinearlyUpToTheReferenceIntervalAndAsItsSquareBeyond) {
   const Matrix3d reference = Vector3d(0.01, 0.02, 0.001).asDiagonal();
   EXPECT_LT(largest_difference(process_noise_at(reference, 0.1, {}, 0.3), 9.0 * reference), 1e-15);
-  EXPECT_LT(largest_difference(process_noise_at(reference, 0.1, {}, 0.05), 0.25 * reference), 1e-15);
+  EXPECT_LT(largest_difference(process_noise_at(reference, 0.1, {}, 0.1), reference), 1e-15);
+  EXPECT_LT(largest_difference(process_noise_at(reference, 0.1, {}, 0.05), 0.5 * reference), 1e-15);
+  // Below the reference interval the increments add up: Q(τ) − Q(τ_s) = Q(τ − τ_s).
+  EXPECT_LT(largest_difference(process_noise_at(reference, 0.1, {}, 0.08) - process_noise_at(reference, 0.1, {}, 0.03),
+                               process_noise_at(reference, 0.1, {}, 0.05)),
+            1e-15);
 }
 
 TEST(ProcessNoiseCurve, PassesThroughItsNodesGrowingBetweenAndBeyondThem) {
   const Matrix3d reference = 0.01 * Matrix3d::Identity();
   const std::vector<IntervalNoise> nodes = {{0.2, Vector3d(0.05, 0.06, 0.02).asDiagonal()},
                                             {0.4, Vector3d(0.3, 0.2, 0.02).asDiagonal()}};
-  // Below the reference interval: the τ² law.
-  EXPECT_LT(largest_difference(process_noise_at(reference, 0.1, nodes, 0.05), 0.25 * reference), 1e-15);
+  // Below the reference interval: linear in τ.
+  EXPECT_LT(largest_difference(process_noise_at(reference, 0.1, nodes, 0.05), 0.5 * reference), 1e-15);
   // At and between the nodes: through them, linear in τ².
   EXPECT_LT(largest_difference(process_noise_at(reference, 0.1, nodes, 0.2), nodes[0].covariance), 1e-15);
   EXPECT_LT(largest_difference(process_noise_at(reference, 0.1, nodes, 0.4), nodes[1].covariance), 1e-15);
@@ -48,7 +53,7 @@ TEST(ProcessNoiseCurve, PassesThroughItsNodesGrowingBetweenAndBeyondThem) {
 
 TEST(ProcessNoiseCurve, TheCoastingCurveStartsFromItsFirstNode) {
   const std::vector<IntervalNoise> nodes = {{0.5, 0.04 * Matrix3d::Identity()}, {1.0, 0.2 * Matrix3d::Identity()}};
-  EXPECT_LT(largest_difference(coasting_process_noise_at(nodes, 0.25), 0.01 * Matrix3d::Identity()), 1e-15);
+  EXPECT_LT(largest_difference(coasting_process_noise_at(nodes, 0.25), 0.02 * Matrix3d::Identity()), 1e-15);
   EXPECT_LT(largest_difference(coasting_process_noise_at(nodes, 1.0), nodes[1].covariance), 1e-15);
   EXPECT_LT(largest_difference(coasting_process_noise_at(nodes, 2.0), 1.6 * Matrix3d::Identity()), 1e-14);
 }
