@@ -44,7 +44,8 @@ void log_method_report(const std::string& method, const MethodConfig& config, co
   if (report.restarted_tracks > report.gating.restarts) {
     if (model->coasting_horizon() > model->prediction_horizon()) {
       spdlog::info("{}: {} track(s) started again: the object had not been seen for longer than the {:.2f} s that "
-                   "the model's Q was calibrated to coast across (twice the longest interval it was calibrated at)",
+                   "the model's Q was calibrated to coast across (twice the longest interval it was calibrated at), nor "
+                   "for longer than 2.5 of its own frame intervals (one missed frame)",
                    method, report.restarted_tracks - report.gating.restarts, model->coasting_horizon());
     } else {
       spdlog::info("{}: {} track(s) started again: the object had not been seen for longer than the model's horizon "

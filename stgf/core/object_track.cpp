@@ -1,7 +1,9 @@
 // SPDX-License-Identifier: Apache-2.0
 #include "stgf/core/object_track.hpp"
 
+#include <algorithm>
 #include <cmath>
+#include <limits>
 #include <stdexcept>
 
 namespace stgf {
@@ -12,6 +14,14 @@ Vector3d ObjectTrack::last_velocity() const {
   const TrackPoint& last = history_[n - 1];
   const TrackPoint& before = history_[n - 2];
   return (last.estimate.mean() - before.estimate.mean()) / (last.time - before.time);
+}
+
+double ObjectTrack::unseen_limit(const MotionPredictor& predictor) const {
+  double limit = predictor.coasting_horizon();
+  if (history_.size() < 2) return limit;
+  double spacing = std::numeric_limits<double>::infinity();
+  for (std::size_t k = 1; k < history_.size(); ++k) spacing = std::min(spacing, history_[k].time - history_[k - 1].time);
+  return std::max(limit, kFramesUnseen * spacing);
 }
 
 Vector3d ObjectTrack::displacement_to(double time, bool constant_velocity) const {

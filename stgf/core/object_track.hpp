@@ -76,6 +76,15 @@ class ObjectTrack {
     return time - state_->time > predictor.prediction_horizon() ||
            (n >= 2 && history_[n - 1].time - history_[n - 2].time > predictor.widest_history_spacing());
   }
+  // How long the track may go unseen before the filter starts it again: the predictor's
+  // coasting_horizon(), or kFramesUnseen times the track's own frame spacing (the shortest interval
+  // between its history positions), whichever is longer. So a track coasts across one missed frame
+  // (two frame spacings unseen, and half a frame for jitter) at the data's own rate, whatever rate
+  // the predictor was trained and calibrated at: at 2 frames/s with a model whose coasting Q was
+  // calibrated to 0.4 s, a track unseen for 1 s coasts with Q extrapolated as τ³
+  // (process_noise_curve.hpp) and scaled by the coasting λ its own innovations teach (design §1.2).
+  static constexpr double kFramesUnseen = 2.5;
+  double unseen_limit(const MotionPredictor& predictor) const;
   const std::optional<MotionForecast>& forecast() const { return forecast_; }
   void set_forecast(const MotionForecast& forecast) { forecast_ = forecast; }
 

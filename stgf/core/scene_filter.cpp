@@ -281,7 +281,7 @@ void SceneFilter::start(Event& event) {
     ObjectTrack& track = state_.tracks[key_of(measurement)];
     if (track.started_in_conflict()) {
       track.clear();  // no start for a velocity (object_track.hpp): starts again here, before any forecast reads it
-    } else if (!track.empty() && event.time - track.state().time > predictor_.coasting_horizon()) {
+    } else if (!track.empty() && event.time - track.state().time > track.unseen_limit(predictor_)) {
       track.clear();  // unseen for too long: starts again, like an object never seen
       ++state_.restarted_tracks;
     } else if (track.coasts_to(event.time, predictor_)) {

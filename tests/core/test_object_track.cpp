@@ -57,6 +57,20 @@ TEST(ObjectTrack, MovesMeasurementsAlongTheForecastAndGrowsQByItsIncrement) {
   EXPECT_FALSE(track.has_frame());
 }
 
+TEST(ObjectTrack, StaysUnseenForOneMissedFrameAtItsOwnRateOrThePredictorsHorizon) {
+  const ConstantVelocityPredictor predictor(1.0, 1.0, /*horizon=*/0.6);
+  const Matrix3d p = 0.01 * Matrix3d::Identity();
+  ObjectTrack track;
+  add_history_position(track, 0.0, Vector3d::Zero(), p, predictor);
+  EXPECT_EQ(track.unseen_limit(predictor), 0.6);  // no frame interval yet
+  add_history_position(track, 0.5, Vector3d::Zero(), p, predictor);
+  EXPECT_EQ(track.unseen_limit(predictor), 1.25);  // 2.5 frames of 0.5 s: one missed frame, with room
+  ObjectTrack fast;
+  add_history_position(fast, 0.0, Vector3d::Zero(), p, predictor);
+  add_history_position(fast, 0.1, Vector3d::Zero(), p, predictor);
+  EXPECT_EQ(fast.unseen_limit(predictor), 0.6);  // the predictor's horizon is the longer
+}
+
 TEST(ObjectTrack, OneHistoryPositionAddsTheUnknownSpeedsSpread) {
   const ConstantVelocityPredictor predictor(1.0, /*speed=*/1.5);
   ObjectTrack track;
