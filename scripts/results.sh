@@ -52,7 +52,7 @@ cp "$out"/figures/*.svg "$out"/figures/*.png docs/figures/
   (1.53 against 1.54), `wls`/`ours` falls to 1.23 against 1.40 (`--q 0.03 0.1 0.3 --offset 0.03
   0.06 --scenes 100`: offset 0.03 m, q 0.1, async/sync 1.17), so `mpl` sits nearest the rows
   without offsets. So about 1.18 is what the best
-  live estimate of such motion pays on `mpl`; `ours` pays 1.36, and the rest (about 15 %) is what a
+  live estimate of such motion pays on `mpl`; `ours` pays 1.33, and the rest (about 13 %) is what a
   better prediction within a frame could still win. Only a non-live answer (a smoother that waits for
   the rest of the frame) could come near the synchronous error.
 - **`ours-l`** is `ours`' own prediction of each row before the update at its time: the gap to
