@@ -16,12 +16,17 @@ Vector3d ObjectTrack::last_velocity() const {
   return (last.estimate.mean() - before.estimate.mean()) / (last.time - before.time);
 }
 
-double ObjectTrack::unseen_limit(const MotionPredictor& predictor) const {
-  double limit = predictor.coasting_horizon();
-  if (history_.size() < 2) return limit;
-  double spacing = std::numeric_limits<double>::infinity();
-  for (std::size_t k = 1; k < history_.size(); ++k) spacing = std::min(spacing, history_[k].time - history_[k - 1].time);
-  return std::max(limit, kFramesUnseen * spacing);
+std::optional<double> ObjectTrack::frame_interval() const {
+  if (history_.size() < 2) return std::nullopt;
+  double interval = std::numeric_limits<double>::infinity();
+  for (std::size_t k = 1; k < history_.size(); ++k) interval = std::min(interval, history_[k].time - history_[k - 1].time);
+  return interval;
+}
+
+double ObjectTrack::unseen_limit(const MotionPredictor& predictor, double scene_frame_interval) const {
+  const double interval = frame_interval().value_or(scene_frame_interval);
+  const double horizon = predictor.coasting_horizon();
+  return std::isfinite(interval) ? std::max(horizon, kFramesUnseen * interval) : horizon;
 }
 
 Vector3d ObjectTrack::displacement_to(double time, bool constant_velocity) const {

@@ -32,6 +32,7 @@
 // short history). Q must grow with its interval, so P ⪰ P̂_s.
 
 #include <deque>
+#include <limits>
 #include <optional>
 #include <utility>
 #include <vector>
@@ -77,14 +78,19 @@ class ObjectTrack {
            (n >= 2 && history_[n - 1].time - history_[n - 2].time > predictor.widest_history_spacing());
   }
   // How long the track may go unseen before the filter starts it again: the predictor's
-  // coasting_horizon(), or kFramesUnseen times the track's own frame spacing (the shortest interval
-  // between its history positions), whichever is longer. So a track coasts across one missed frame
-  // (two frame spacings unseen, and half a frame for jitter) at the data's own rate, whatever rate
-  // the predictor was trained and calibrated at: at 2 frames/s with a model whose coasting Q was
+  // coasting_horizon(), or kFramesUnseen times the track's frame interval (the shortest between its
+  // history positions; while it has fewer than two, `scene_frame_interval`, the shortest between two
+  // consecutive times of its scene), whichever is longer. So a track coasts across one missed frame (two frame
+  // intervals unseen, and half a frame for jitter) at the data's own rate, whatever rate the
+  // predictor was trained and calibrated at: at 2 frames/s with a model whose coasting Q was
   // calibrated to 0.4 s, a track unseen for 1 s coasts with Q extrapolated as τ³
-  // (process_noise_curve.hpp) and scaled by the coasting λ its own innovations teach (design §1.2).
+  // (process_noise_curve.hpp) and scaled by the coasting λ its own innovations teach (design §1.2);
+  // one seen at a single time so far keeps its position, with the unknown speed's spread.
   static constexpr double kFramesUnseen = 2.5;
-  double unseen_limit(const MotionPredictor& predictor) const;
+  double unseen_limit(const MotionPredictor& predictor,
+                      double scene_frame_interval = std::numeric_limits<double>::infinity()) const;
+  // The shortest interval between two history positions; none with fewer than two.
+  std::optional<double> frame_interval() const;
   const std::optional<MotionForecast>& forecast() const { return forecast_; }
   void set_forecast(const MotionForecast& forecast) { forecast_ = forecast; }
 

@@ -271,6 +271,10 @@ void SceneFilter::start(Event& event) {
   if (options_.lag_window > 0.0 && event.time - checkpoints_.back().time >= kCheckpointSpacing) {
     checkpoints_.push_back({event.time, state_});
   }
+  if (state_.last_time && event.time - *state_.last_time > kSameStepTolerance) {
+    state_.frame_interval = std::min(state_.frame_interval, event.time - *state_.last_time);
+  }
+  state_.last_time = event.time;
   // The event's tracks: kPerObject, one per object (rows are in object order); kPerView, one per row.
   event.tracks.clear();
   for (std::size_t k = 0; k < event.rows.size(); ++k) {
@@ -281,7 +285,7 @@ void SceneFilter::start(Event& event) {
     ObjectTrack& track = state_.tracks[key_of(measurement)];
     if (track.started_in_conflict()) {
       track.clear();  // no start for a velocity (object_track.hpp): starts again here, before any forecast reads it
-    } else if (!track.empty() && event.time - track.state().time > track.unseen_limit(predictor_)) {
+    } else if (!track.empty() && event.time - track.state().time > track.unseen_limit(predictor_, state_.frame_interval)) {
       track.clear();  // unseen for too long: starts again, like an object never seen
       ++state_.restarted_tracks;
     } else if (track.coasts_to(event.time, predictor_)) {

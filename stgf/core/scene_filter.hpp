@@ -84,6 +84,7 @@
 #include <deque>
 #include <map>
 #include <memory>
+#include <limits>
 #include <optional>
 #include <stdexcept>
 #include <string>
@@ -220,6 +221,10 @@ class SceneFilter {
     ProcessNoiseScale coasting_scale;
     MotionChoice motion_choice;
     ViewNoiseScales view_noise;
+    // The shortest interval between two consecutive times of the scene: its frame interval, for a
+    // track that has no interval of its own yet (ObjectTrack::unseen_limit).
+    std::optional<double> last_time;
+    double frame_interval = std::numeric_limits<double>::infinity();
     std::size_t restarted_tracks = 0;
     std::size_t coasting_predictions = 0;
     std::size_t gate_restarts = 0;

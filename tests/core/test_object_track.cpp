@@ -63,8 +63,11 @@ TEST(ObjectTrack, StaysUnseenForOneMissedFrameAtItsOwnRateOrThePredictorsHorizon
   ObjectTrack track;
   add_history_position(track, 0.0, Vector3d::Zero(), p, predictor);
   EXPECT_EQ(track.unseen_limit(predictor), 0.6);  // no frame interval yet
+  EXPECT_FALSE(track.frame_interval().has_value());
+  EXPECT_EQ(track.unseen_limit(predictor, /*scene_frame_interval=*/0.4), 1.0);  // the scene's
   add_history_position(track, 0.5, Vector3d::Zero(), p, predictor);
   EXPECT_EQ(track.unseen_limit(predictor), 1.25);  // 2.5 frames of 0.5 s: one missed frame, with room
+  EXPECT_EQ(track.unseen_limit(predictor, 0.4), 1.25);  // its own interval before the scene's
   ObjectTrack fast;
   add_history_position(fast, 0.0, Vector3d::Zero(), p, predictor);
   add_history_position(fast, 0.1, Vector3d::Zero(), p, predictor);

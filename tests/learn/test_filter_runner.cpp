@@ -6,6 +6,11 @@
 #include "stgf/methods/filter_runner.hpp"
 #include "stgf/methods/spatiotemporal_graph_filter.hpp"
 
+#include <cmath>
+#include <set>
+#include <string>
+#include <utility>
+
 #include <gtest/gtest.h>
 
 #include "stgf/datasets/synthetic.hpp"
@@ -63,12 +68,34 @@ TEST(FilterRunner, MatchesSceneBySceneWithTheLearnedModel) {
   expect_close(run.estimates, run_spatiotemporal_graph_filter(model, options, rows).estimates, 0.0);
 }
 
+// Steps 0.1 s apart, none from 0.5 to 1.0 s: after the gap, longer than the horizon and than 2.5 frame
+// intervals (ObjectTrack::unseen_limit), every track seen before it starts again, with no prediction.
 TEST(FilterRunner, CountsRestartedTracksOverScenes) {
-  const std::vector<Measurement> rows = synthetic_scenes();
-  const ConstantVelocityPredictor predictor(0.5, 1.2, /*horizon=*/0.05);  // shorter than a step: every track restarts
+  std::vector<Measurement> rows;
+  for (const Measurement& row : synthetic_scenes()) {
+    if (row.time < 0.45 || row.time > 1.05) rows.push_back(row);
+  }
+  const ConstantVelocityPredictor predictor(0.5, 1.2, /*horizon=*/0.05);  // shorter than a step
   const FilterRun run = run_spatiotemporal_graph_filter(predictor, {}, rows, true);
-  EXPECT_GT(run.restarted_tracks, 0u);
-  for (const auto& prediction : run.predictions) EXPECT_FALSE(prediction.has_value());
+  std::set<std::pair<std::string, std::string>> before, after;  // (scene, object) seen at 0.4 s, at 1.1 s
+  std::size_t first_after = 0, predicted_first_after = 0;
+  for (std::size_t k = 0; k < rows.size(); ++k) {
+    if (std::abs(rows[k].time - 0.4) < 1e-9) before.emplace(rows[k].scene, rows[k].object);
+    if (std::abs(rows[k].time - 1.1) < 1e-9) {
+      after.emplace(rows[k].scene, rows[k].object);
+      ++first_after;
+      if (run.predictions[k]) ++predicted_first_after;
+    }
+  }
+  std::size_t restarted = 0;
+  for (const auto& key : after) restarted += before.count(key);
+  ASSERT_GT(restarted, 0u);
+  EXPECT_GE(run.restarted_tracks, restarted);
+  EXPECT_GT(first_after, 0u);
+  EXPECT_EQ(predicted_first_after, 0u);
+  // Within the scenes' frames no track starts again, however short the horizon: each coasts across
+  // one missed frame.
+  EXPECT_EQ(run_spatiotemporal_graph_filter(predictor, {}, synthetic_scenes()).restarted_tracks, 0u);
 }
 
 }  // namespace
