@@ -24,8 +24,9 @@ std::optional<double> ObjectTrack::frame_interval() const {
 }
 
 double ObjectTrack::unseen_limit(const MotionPredictor& predictor, double scene_frame_interval) const {
-  const double interval = frame_interval().value_or(scene_frame_interval);
   const double horizon = predictor.coasting_horizon();
+  if (!(horizon > predictor.prediction_horizon())) return horizon;  // no coasting Q to cross a frame with
+  const double interval = frame_interval().value_or(scene_frame_interval);
   return std::isfinite(interval) ? std::max(horizon, kFramesUnseen * interval) : horizon;
 }
 

@@ -78,14 +78,19 @@ class ObjectTrack {
            (n >= 2 && history_[n - 1].time - history_[n - 2].time > predictor.widest_history_spacing());
   }
   // How long the track may go unseen before the filter starts it again: the predictor's
-  // coasting_horizon(), or kFramesUnseen times the track's frame interval (the shortest between its
+  // coasting_horizon(); for a predictor that coasts at all (coasting_horizon() beyond
+  // prediction_horizon(): a model whose Q was calibrated at longer intervals), that or
+  // kFramesUnseen times the track's frame interval (the shortest between its
   // history positions; while it has fewer than two, `scene_frame_interval`, the shortest between two
   // consecutive times of its scene), whichever is longer. So a track coasts across one missed frame (two frame
   // intervals unseen, and half a frame for jitter) at the data's own rate, whatever rate the
   // predictor was trained and calibrated at: at 2 frames/s with a model whose coasting Q was
   // calibrated to 0.4 s, a track unseen for 1 s coasts with Q extrapolated as τ³
   // (process_noise_curve.hpp) and scaled by the coasting λ its own innovations teach (design §1.2);
-  // one seen at a single time so far keeps its position, with the unknown speed's spread.
+  // one seen at a single time so far keeps its position, with the unknown speed's spread. A
+  // predictor without a coasting curve has only Q(τ) ∝ τ² from its training rate beyond its horizon,
+  // which understates the error there (mpl at 1 Hz with such a model: NEES 3.87 coasting, 2.81
+  // starting again; design §1.9), so its tracks start again as before.
   static constexpr double kFramesUnseen = 2.5;
   double unseen_limit(const MotionPredictor& predictor,
                       double scene_frame_interval = std::numeric_limits<double>::infinity()) const;

@@ -100,6 +100,8 @@ SceneFilter::SceneFilter(const MotionPredictor& predictor, const FilterOptions& 
              .coasting_scale = {},
              .motion_choice = MotionChoice(options.motion_fallback),
              .view_noise = {},
+             .last_time = {},
+             .frame_interval = std::numeric_limits<double>::infinity(),
              .restarted_tracks = 0,
              .coasting_predictions = 0,
              .gate_restarts = 0,

@@ -7,6 +7,8 @@
 
 #include <gtest/gtest.h>
 
+#include "support/coasting_predictor.hpp"
+
 namespace stgf {
 namespace {
 
@@ -57,21 +59,25 @@ TEST(ObjectTrack, MovesMeasurementsAlongTheForecastAndGrowsQByItsIncrement) {
   EXPECT_FALSE(track.has_frame());
 }
 
-TEST(ObjectTrack, StaysUnseenForOneMissedFrameAtItsOwnRateOrThePredictorsHorizon) {
-  const ConstantVelocityPredictor predictor(1.0, 1.0, /*horizon=*/0.6);
+TEST(ObjectTrack, CoastsAcrossOneMissedFrameAtItsOwnRateWhenThePredictorCoasts) {
+  const testing::CoastingPredictor predictor(/*horizon=*/0.6, /*coasting_horizon=*/0.8);
   const Matrix3d p = 0.01 * Matrix3d::Identity();
   ObjectTrack track;
   add_history_position(track, 0.0, Vector3d::Zero(), p, predictor);
-  EXPECT_EQ(track.unseen_limit(predictor), 0.6);  // no frame interval yet
   EXPECT_FALSE(track.frame_interval().has_value());
+  EXPECT_EQ(track.unseen_limit(predictor), 0.8);  // no frame interval known
   EXPECT_EQ(track.unseen_limit(predictor, /*scene_frame_interval=*/0.4), 1.0);  // the scene's
   add_history_position(track, 0.5, Vector3d::Zero(), p, predictor);
+  EXPECT_EQ(track.frame_interval(), 0.5);
   EXPECT_EQ(track.unseen_limit(predictor), 1.25);  // 2.5 frames of 0.5 s: one missed frame, with room
   EXPECT_EQ(track.unseen_limit(predictor, 0.4), 1.25);  // its own interval before the scene's
   ObjectTrack fast;
   add_history_position(fast, 0.0, Vector3d::Zero(), p, predictor);
   add_history_position(fast, 0.1, Vector3d::Zero(), p, predictor);
-  EXPECT_EQ(fast.unseen_limit(predictor), 0.6);  // the predictor's horizon is the longer
+  EXPECT_EQ(fast.unseen_limit(predictor), 0.8);  // the coasting horizon is the longer
+  // A predictor that does not coast: its horizon, whatever the frame interval.
+  const ConstantVelocityPredictor plain(1.0, 1.0, /*horizon=*/0.6);
+  EXPECT_EQ(track.unseen_limit(plain, 0.4), 0.6);
 }
 
 TEST(ObjectTrack, OneHistoryPositionAddsTheUnknownSpeedsSpread) {

@@ -16,6 +16,7 @@
 #include "stgf/datasets/synthetic.hpp"
 #include "stgf/learn/motion_model.hpp"
 #include "stgf/methods/run_method.hpp"
+#include "support/coasting_predictor.hpp"
 
 namespace stgf {
 namespace {
@@ -68,8 +69,8 @@ TEST(FilterRunner, MatchesSceneBySceneWithTheLearnedModel) {
   expect_close(run.estimates, run_spatiotemporal_graph_filter(model, options, rows).estimates, 0.0);
 }
 
-// Steps 0.1 s apart, none from 0.5 to 1.0 s: after the gap, longer than the horizon and than 2.5 frame
-// intervals (ObjectTrack::unseen_limit), every track seen before it starts again, with no prediction.
+// Steps 0.1 s apart, none from 0.5 to 1.0 s: after the gap, longer than the predictor's horizon, every
+// track seen before it starts again, with no prediction.
 TEST(FilterRunner, CountsRestartedTracksOverScenes) {
   std::vector<Measurement> rows;
   for (const Measurement& row : synthetic_scenes()) {
@@ -93,9 +94,20 @@ TEST(FilterRunner, CountsRestartedTracksOverScenes) {
   EXPECT_GE(run.restarted_tracks, restarted);
   EXPECT_GT(first_after, 0u);
   EXPECT_EQ(predicted_first_after, 0u);
-  // Within the scenes' frames no track starts again, however short the horizon: each coasts across
-  // one missed frame.
-  EXPECT_EQ(run_spatiotemporal_graph_filter(predictor, {}, synthetic_scenes()).restarted_tracks, 0u);
+}
+
+// With a predictor that coasts, a track crosses one missed frame (0.2 s unseen at 10 frames/s) even
+// beyond the coasting horizon: it starts again only past 2.5 frame intervals, its own or, before it
+// has one, the scene's (ObjectTrack::unseen_limit). A predictor that does not coast restarts them.
+TEST(FilterRunner, ACoastingTrackCrossesOneMissedFrameAtTheScenesRate) {
+  std::vector<Measurement> rows;
+  for (const Measurement& row : synthetic_scenes()) {
+    if (std::abs(row.time - 0.1) > 1e-9 && std::abs(row.time - 0.5) > 1e-9) rows.push_back(row);
+  }
+  const testing::CoastingPredictor coasting(/*horizon=*/0.05, /*coasting_horizon=*/0.08);
+  EXPECT_EQ(run_spatiotemporal_graph_filter(coasting, {}, rows).restarted_tracks, 0u);
+  const ConstantVelocityPredictor plain(0.5, 1.2, /*horizon=*/0.08);
+  EXPECT_GT(run_spatiotemporal_graph_filter(plain, {}, rows).restarted_tracks, 0u);
 }
 
 }  // namespace
