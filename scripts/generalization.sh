@@ -246,25 +246,26 @@ cat >> "$out/generalization.md" <<'NOTES'
   honest (0.0459 m / NEES 2.78 against 0.0470 / 3.47), `ours-l` 33 % (0.105 against 0.158 m); on ETH/UCY the mpl model's `ours`
   goes from between 4 % ahead of `wls` (univ) and 14 % behind it (eth), NEES 11–15, to 3–11 %
   below `wls` on all five scenes, NEES 3.3–3.8. At mpl's own rate nothing changes. On cad it gains 0.1 % at 10 Hz (0.3453 against
-  0.3458) and 1.8 % (0.3661 against 0.3728) at 2 frames/s.
+  0.3458) and 1.9 % (0.3660 against 0.3731) at 2 frames/s.
 - **Constant velocity where Φ does not fit** (design §1.13; compare `ours` with `ours-motion-off`).
   With Q calibrated at longer intervals Φ forecasts only from histories at about its training rate,
   and the per-scene choice changes little in these tables (at most 0.5 %, on the cad split turned by 90°). It mattered with
   the earlier models: on ETH/UCY's eth scene the mpl model trained with `--long-intervals 0` went
   from 0.1379 to 0.1174 m with it (NEES 30.7 → 13.1), still behind `wls`.
-- **cad at 2 frames/s** (5 s scenes, every fifth step of KITTI's 10 Hz): `ours` 0.3661 m, NEES 2.95, against
+- **cad at 2 frames/s** (5 s scenes, every fifth step of KITTI's 10 Hz): `ours` 0.3660 m, NEES 2.95, against
   `wls` 0.4868 and `mmt` 0.4845. `ours-l` is poor there (0.63 m): at 0.5 s per frame a
   track's second frame is predicted with no velocity. cad's validation scenes are 1 s long, so its
   coasting Q is calibrated to 0.4 s only; a track unseen for one frame (1 s) coasts all the same,
   with that Q grown as τ³ and scaled by its own innovations (design §1.5: a track starts again only
-  when unseen for longer than 2.5 of its own frame intervals). 84 tracks still start again (the last
-  table): those seen at one time only before the gap (no velocity to coast with) and those unseen for
-  two frames or more. The cad benchmark's training and validation scenes are too short to train or
+  when unseen for longer than 2.5 of its own frame intervals). Only the 20 tracks unseen for two
+  frames or more start again (the last table; 353 with the model trained with `--long-intervals 0`,
+  which has no coasting Q to cross a frame with). The cad benchmark's training and validation scenes are too short to train or
   calibrate at such intervals.
 - **Without any calibration error** only Φ can help, and only where it predicts better than the
   measurements alone: on the mpl test split with perfectly calibrated cameras `ours` is 22 % below
-  `wls`; on cad at 2 frames/s without GPS errors it merely ties `wls` and is 1 % behind `mmt`,
-  with NEES well below 3 (the registration prior, calibrated with GPS errors, is scaled down per
+  `wls` (0.0327 against 0.0420 m; NEES 3.66, a little above 3.5); on cad at 2 frames/s without GPS
+  errors it merely ties `wls` (0.2054 against 0.2064 m) and is 0.9 % behind `mmt` (0.2035), with
+  NEES 1.45 (the registration prior, calibrated with GPS errors, is scaled down per
   scene from the views' disagreements, but at 2 frames/s they are few: κ median 0.26). At 0.5 s per
   frame the cad model hands every track to constant velocity with a Q calibrated for GPS-biased
   fused histories, wider than these need.
