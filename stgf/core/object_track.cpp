@@ -19,7 +19,9 @@ Vector3d ObjectTrack::last_velocity() const {
 std::optional<double> ObjectTrack::frame_interval() const {
   if (history_.size() < 2) return std::nullopt;
   double interval = std::numeric_limits<double>::infinity();
-  for (std::size_t k = 1; k < history_.size(); ++k) interval = std::min(interval, history_[k].time - history_[k - 1].time);
+  for (std::size_t k = 1; k < history_.size(); ++k) {
+    interval = std::min(interval, history_[k].time - history_[k - 1].time);
+  }
   return interval;
 }
 

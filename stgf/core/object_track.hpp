@@ -27,9 +27,9 @@
 // a frame period accumulates the same process noise over that period as a track updated once by
 // seven synchronised ones (a plain Q(t − t_s) per update would add up to a seventh of it with
 // Q ∝ Δt², and the filter would trust its prediction seven times too much; below the calibration
-// interval Q grows linearly, so there the two agree: process_noise_curve.hpp). D = diag(√λ) is the online
-// scale of Q (process_noise_scale.hpp); s is the predictor's typical speed (the unknown velocity of a
-// short history). Q must grow with its interval, so P ⪰ P̂_s.
+// interval Q grows linearly, so there the two agree: process_noise_curve.hpp). D = diag(√λ) is the
+// online scale of Q (process_noise_scale.hpp); s is the predictor's typical speed (the unknown
+// velocity of a short history). Q must grow with its interval, so P ⪰ P̂_s.
 
 #include <deque>
 #include <limits>
@@ -79,10 +79,10 @@ class ObjectTrack {
   }
   // How long the track may go unseen before the filter starts it again: the predictor's
   // coasting_horizon(); for a predictor that coasts at all (coasting_horizon() beyond
-  // prediction_horizon(): a model whose Q was calibrated at longer intervals), that or
-  // kFramesUnseen times the track's frame interval (the shortest between its
-  // history positions; while it has fewer than two, `scene_frame_interval`, the shortest between two
-  // consecutive times of its scene), whichever is longer. So a track coasts across one missed frame (two frame
+  // prediction_horizon(): a model whose Q was calibrated at longer intervals), that or kFramesUnseen
+  // times the track's frame interval, whichever is longer. The frame interval is the shortest
+  // between its history positions; while it has fewer than two, `scene_frame_interval`, the shortest
+  // between two consecutive times of its scene. So a track coasts across one missed frame (two frame
   // intervals unseen, and half a frame for jitter) at the data's own rate, whatever rate the
   // predictor was trained and calibrated at: at 2 frames/s with a model whose coasting Q was
   // calibrated to 0.4 s, a track unseen for 1 s coasts with Q extrapolated as τ³

@@ -26,7 +26,7 @@
 // (a tenth of the interval got 1 % of it): the first views after a history position were trusted far
 // beyond what the forecast was worth. Both laws agree at τ_ref, where Q_ref is calibrated, so
 // synchronised views (which predict over whole intervals) see no difference. Measured on the
-// asynchronous validation splits of mpl and cad (docs/results.md).
+// asynchronous validation splits of mpl and cad (design §1.2).
 
 #include <span>
 #include <vector>
