@@ -7,7 +7,7 @@
 
 #include <gtest/gtest.h>
 
-#include "support/coasting_predictor.hpp"
+#include "support/test_predictors.hpp"
 
 namespace stgf {
 namespace {

@@ -16,7 +16,7 @@
 #include "stgf/datasets/synthetic.hpp"
 #include "stgf/learn/motion_model.hpp"
 #include "stgf/methods/run_method.hpp"
-#include "support/coasting_predictor.hpp"
+#include "support/test_predictors.hpp"
 
 namespace stgf {
 namespace {

@@ -5,6 +5,7 @@
 #include "stgf/methods/spatiotemporal_graph_filter.hpp"
 
 #include <cmath>
+#include <limits>
 #include <map>
 #include <random>
 
@@ -13,6 +14,7 @@
 
 #include "stgf/core/metrics.hpp"
 #include "stgf/core/multi_view_update.hpp"
+#include "support/test_predictors.hpp"
 
 namespace stgf {
 namespace {
@@ -328,23 +330,16 @@ TEST(SpatiotemporalGraphFilter, AStartFromConflictingMeasurementsIsWideAndNoStar
 }
 
 // Constant velocity, recording every object of every motion graph it is asked to forecast.
-class RecordingPredictor final : public MotionPredictor {
+class RecordingPredictor final : public testing::ForwardingPredictor {
  public:
+  RecordingPredictor() : ForwardingPredictor(0.01, 1.0, std::numeric_limits<double>::infinity()) {}
   std::vector<std::vector<MotionForecast>> forecast(std::span<const MotionGraph> graphs) const override {
     for (const MotionGraph& graph : graphs) {
       for (const ObjectHistory& object : graph.objects) seen.emplace_back(graph.target_time, object.object);
     }
-    return inner_.forecast(graphs);
+    return ForwardingPredictor::forecast(graphs);
   }
-  Matrix3d process_noise(double dt) const override { return inner_.process_noise(dt); }
-  int history_positions() const override { return inner_.history_positions(); }
-  double history_spacing() const override { return inner_.history_spacing(); }
-  double typical_speed() const override { return inner_.typical_speed(); }
-  double prediction_horizon() const override { return inner_.prediction_horizon(); }
   mutable std::vector<std::pair<double, std::string>> seen;  // (graph time, object)
-
- private:
-  ConstantVelocityPredictor inner_{0.01, 1.0};
 };
 
 // A track started from conflicting measurements starts again at its object's next time, before the
