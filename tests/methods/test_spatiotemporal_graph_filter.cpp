@@ -217,21 +217,10 @@ TEST(SpatiotemporalGraphFilter, AdaptsQWhenPredictionsAreWorseThanItSays) {
 
 // Constant velocity that hands every track with two history positions to coasting (its widest history
 // spacing is below the step): Φ's Q and the coasting Q are both far too small.
-class CoastingPredictor final : public MotionPredictor {
+class HandsEveryHistoryToCoastingPredictor final : public testing::ForwardingPredictor {
  public:
-  std::vector<std::vector<MotionForecast>> forecast(std::span<const MotionGraph> graphs) const override {
-    return inner_.forecast(graphs);
-  }
-  Matrix3d process_noise(double dt) const override { return inner_.process_noise(dt); }
-  Matrix3d coasting_process_noise(double dt) const override { return inner_.process_noise(dt); }
-  int history_positions() const override { return inner_.history_positions(); }
-  double history_spacing() const override { return inner_.history_spacing(); }
-  double typical_speed() const override { return inner_.typical_speed(); }
-  double prediction_horizon() const override { return inner_.prediction_horizon(); }
-  double widest_history_spacing() const override { return 0.05; }
-
- private:
-  ConstantVelocityPredictor inner_{1e-4, 1.0};
+  HandsEveryHistoryToCoastingPredictor() : ForwardingPredictor(1e-4, 1.0, std::numeric_limits<double>::infinity()) {}
+  double widest_history_spacing() const override { return 0.05; }  // its coasting Q: process_noise
 };
 
 // The same with tracks that coast (design §1.9): their innovations teach the coasting λ, which scales
@@ -239,7 +228,7 @@ class CoastingPredictor final : public MotionPredictor {
 // and without offsets.
 TEST(SpatiotemporalGraphFilter, AdaptsTheCoastingQWhenCoastingIsWorseThanItSays) {
   for (const bool joint : {false, true}) {
-    const CoastingPredictor predictor;
+    const HandsEveryHistoryToCoastingPredictor predictor;
     FilterOptions adaptive_options, fixed_options;
     fixed_options.adapt_process_noise = false;
     adaptive_options.gate.enabled = fixed_options.gate.enabled = false;  // as above
@@ -475,23 +464,16 @@ TEST(SpatiotemporalGraphFilter, ReleasesAJumpFromWhenItBegan) {
 }
 
 // A motion model that is wrong for the data: constant velocity plus an acceleration that is not there.
-class WrongAccelerationPredictor final : public MotionPredictor {
+class WrongAccelerationPredictor final : public testing::ForwardingPredictor {
  public:
+  WrongAccelerationPredictor() : ForwardingPredictor(0.05, 1.0, std::numeric_limits<double>::infinity()) {}
   std::vector<std::vector<MotionForecast>> forecast(std::span<const MotionGraph> graphs) const override {
-    std::vector<std::vector<MotionForecast>> forecasts = base_.forecast(graphs);
+    std::vector<std::vector<MotionForecast>> forecasts = ForwardingPredictor::forecast(graphs);
     for (auto& graph : forecasts) {
       for (MotionForecast& forecast : graph) forecast.acceleration = Vector3d(20.0, 0.0, 0.0);
     }
     return forecasts;
   }
-  Matrix3d process_noise(double dt) const override { return base_.process_noise(dt); }
-  int history_positions() const override { return base_.history_positions(); }
-  double history_spacing() const override { return base_.history_spacing(); }
-  double typical_speed() const override { return base_.typical_speed(); }
-  double prediction_horizon() const override { return base_.prediction_horizon(); }
-
- private:
-  ConstantVelocityPredictor base_{0.05, 1.0};
 };
 
 TEST(SpatiotemporalGraphFilter, FollowsConstantVelocityWhereTheModelPredictsWorse) {
