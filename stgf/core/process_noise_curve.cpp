@@ -11,6 +11,11 @@ double reference_growth(double period, double tau) {
   return ratio <= 1.0 ? ratio : ratio * ratio;
 }
 
+double reference_shrinkage(double period, double tau) {
+  const double ratio = period / tau;
+  return ratio >= 1.0 ? ratio : ratio * ratio;
+}
+
 Matrix3d process_noise_at(const Matrix3d& reference, double period, std::span<const IntervalNoise> nodes, double tau) {
   if (nodes.empty() || tau <= period) return reference * reference_growth(period, tau);
   double low_interval = period;

@@ -42,6 +42,8 @@ struct IntervalNoise {
 
 // Q(τ) / Q_ref without nodes: τ / τ_ref up to τ_ref, (τ / τ_ref)² beyond (`period` is τ_ref).
 double reference_growth(double period, double tau);
+// Its inverse, Q_ref / Q(τ), computed from τ_ref / τ (what the calibration scales a residual at τ by).
+double reference_shrinkage(double period, double tau);
 // Q(τ) as above. `nodes` sorted by interval, all beyond `period`.
 Matrix3d process_noise_at(const Matrix3d& reference, double period, std::span<const IntervalNoise> nodes, double tau);
 // Throws std::invalid_argument unless every node's interval is finite and beyond the one before

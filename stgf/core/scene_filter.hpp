@@ -83,8 +83,8 @@
 #include <cstddef>
 #include <deque>
 #include <map>
-#include <memory>
 #include <limits>
+#include <memory>
 #include <optional>
 #include <stdexcept>
 #include <string>

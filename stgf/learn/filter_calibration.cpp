@@ -9,6 +9,7 @@
 #include <string>
 #include <string_view>
 
+#include "stgf/core/process_noise_curve.hpp"
 #include "stgf/learn/process_noise_rounds.hpp"
 #include "stgf/methods/filter_runner.hpp"
 
@@ -174,10 +175,8 @@ FilterCalibration calibrate_filter_process_noise(MotionModel& model, const Regis
     report.prior_error = scored.error;
     Matrix3d moment = Matrix3d::Zero();
     for (const Residual& residual : residuals) {
-      // Q_ref / Q(dt) by the law without nodes (process_noise_curve.hpp, reference_growth).
-      const double ratio = calibration.period / residual.dt;
-      const double scale = ratio >= 1.0 ? ratio : ratio * ratio;
-      moment += scale * (residual.error * residual.error.transpose() - residual.known_covariance);
+      // Q_ref / Q(dt) by the law without nodes.
+      moment += reference_shrinkage(calibration.period, residual.dt) * (residual.error * residual.error.transpose() - residual.known_covariance);
     }
     const auto n = static_cast<double>(residuals.size());
     const Eigen::SelfAdjointEigenSolver<Matrix3d> eigen(symmetrised(moment / n));

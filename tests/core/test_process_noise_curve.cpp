@@ -24,6 +24,14 @@ TEST(ProcessNoiseCurve, WithoutNodesQGrowsLinearlyUpToTheReferenceIntervalAndAsI
             1e-15);
 }
 
+TEST(ProcessNoiseCurve, TheShrinkageInvertsTheGrowthOnBothSidesOfTheReferenceInterval) {
+  for (const double tau : {0.01, 0.05, 0.1, 0.2, 0.7}) {
+    EXPECT_NEAR(reference_growth(0.1, tau) * reference_shrinkage(0.1, tau), 1.0, 1e-14) << tau;
+  }
+  EXPECT_EQ(reference_shrinkage(0.1, 0.05), 2.0);
+  EXPECT_EQ(reference_shrinkage(0.1, 0.2), 0.25);
+}
+
 TEST(ProcessNoiseCurve, PassesThroughItsNodesGrowingBetweenAndBeyondThem) {
   const Matrix3d reference = 0.01 * Matrix3d::Identity();
   const std::vector<IntervalNoise> nodes = {{0.2, Vector3d(0.05, 0.06, 0.02).asDiagonal()},
