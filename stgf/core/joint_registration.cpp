@@ -8,6 +8,7 @@
 #include <Eigen/Eigenvalues>
 
 #include "stgf/core/cholesky3.hpp"
+#include "stgf/core/dense_kernels.hpp"
 
 namespace stgf {
 using Matrix36 = Eigen::Matrix<double, 3, 6>;
@@ -44,35 +45,9 @@ void add_own_terms(const Blocks& blocks, const Matrix36& h, const Matrix3d& weig
   }
 }
 
-// The kernels below are written for a few right-hand sides (3 or 6) and c up to a few hundred, where
-// Eigen's blocked triangular solve and rank update spend more on packing than on arithmetic.
-
-// X ← L⁻¹ X for the lower triangle L of `factor` (forward substitution by columns of L).
-template <int Columns>
-void forward_substitute(const Eigen::MatrixXd& factor, Eigen::Matrix<double, Eigen::Dynamic, Columns>& x) {
-  const Eigen::Index size = factor.rows();
-  for (Eigen::Index j = 0; j < size; ++j) {
-    x.row(j) /= factor(j, j);
-    const Eigen::Index below = size - j - 1;
-    if (below > 0) x.bottomRows(below).noalias() -= factor.col(j).tail(below) * x.row(j);
-  }
-}
-
-// The lower triangle of M gets Aᵀᵀ Aᵀ − Bᵀᵀ Bᵀ (two rank-3 terms, given as c × 3 matrices).
-template <class Added, class Subtracted>
-void add_rank3_difference(Eigen::MatrixXd& lower, const Added& added, const Subtracted& subtracted) {
-  const Eigen::Index size = lower.rows();
-  for (Eigen::Index j = 0; j < size; ++j) {
-    const Eigen::Index n = size - j;
-    lower.col(j).tail(n) += added.col(0).tail(n) * added(j, 0) + added.col(1).tail(n) * added(j, 1) +
-                            added.col(2).tail(n) * added(j, 2) - subtracted.col(0).tail(n) * subtracted(j, 0) -
-                            subtracted.col(1).tail(n) * subtracted(j, 1) - subtracted.col(2).tail(n) * subtracted(j, 2);
-  }
-}
-
 // Eigen's blocked kernels (rank update of M, triangular solve) from this many columns on — pending
 // rank-3 terms, or 3 per object whose position is read; fewer (a small event) take the column kernels
-// above, which cost less there.
+// of dense_kernels.hpp, which cost less there.
 constexpr Eigen::Index kBlockedColumns = 24;
 // At most this many pending columns (128 objects' updates): memory 2 · 8 · c · 384 bytes.
 constexpr std::size_t kMaxPendingColumns = 384;
@@ -80,11 +55,7 @@ constexpr std::size_t kMaxPendingColumns = 384;
 }  // namespace
 
 JointRegistration::JointRegistration(const RegistrationPrior& prior)
-    : prior_(prior), prior_covariance_(prior.covariance()) {
-  // Eigen's default LLT leaves its status uninitialised, and copying the registration (a checkpoint)
-  // would read it: start from the factor of the empty M.
-  offsets_factor_.compute(Eigen::MatrixXd(0, 0));
-}
+    : prior_(prior), prior_covariance_(prior.covariance()) {}
 
 const JointRegistration::ViewBlocks* JointRegistration::view_blocks(std::string_view view) const {
   const auto found = views_.find(view);
@@ -238,46 +209,66 @@ void JointRegistration::update(std::span<const Measurement* const> measurements,
   }
   ObjectState& object = found->second;
   const Eigen::Index size = offsets_information_vector_.size();
-  // Before: the conditional's information P⁻¹ = FᵀF with F = L_P⁻¹, and its term (F B)ᵀ, F â — U₋ is
-  // written straight into the pending columns once nothing can throw any more.
+  // What the measurements teach of β is added to M and m in one of two exact forms:
+  //   one measurement: z = a_i + C β + e with C = B_i + G, a_i ~ N(â, P) independent of β, so
+  //     M += Cᵀ S⁻¹ C,  m += Cᵀ S⁻¹ (z − â),  S = P + R:  one rank-3 term (X = L_S⁻¹ C; M += XᵀX);
+  //   several: the conditional's terms before and after and each measurement's own term (header),
+  //     two rank-3 terms however many measurements there are.
+  const bool single = terms.size() == 1 && terms.front().view != nullptr && size > 0;
   const Cholesky3 prior_factor(object.covariance);
   if (!prior_factor.ok()) throw std::runtime_error("registration: a position's covariance is not positive definite");
-  const Matrix3d prior_whitening = prior_factor.inverse_factor();  // F
-  const Vector3d before_w = prior_whitening * object.mean;
+  const Matrix3d prior_whitening = prior_factor.inverse_factor();  // F = L_P⁻¹
   const Matrix3d prior_information = prior_whitening.transpose() * prior_whitening;  // P⁻¹
   Matrix3d information = prior_information;           // then P'⁻¹
   Vector3d information_mean = information * object.mean;  // P⁻¹ â, then P'⁻¹ â'
-  Eigen::VectorXd& information_vector = offsets_information_vector_;
   for (std::size_t k = 0; k < measurements.size(); ++k) {
-    const Measurement& measurement = *measurements[k];
-    const UpdateTerm& term = terms[k];
-    const Vector3d& z = measurement.position.mean();
-    // The view's own term: G_kᵀ R_k⁻¹ G_k and G_kᵀ R_k⁻¹ z_k with G_k = H_k × a block's basis: H_kᵀ R_k⁻¹ H_k
-    // joins the view's pending sum (added to M's blocks of the view when M is next folded), and
-    // the vector goes to m now.
-    if (term.view != nullptr) {
-      const Matrix36 weighted = term.noise_inverse * term.jacobian;  // R_k⁻¹ H_k
-      term.view->pending_information.noalias() += term.jacobian.transpose() * weighted;
-      term.view->has_pending_information = true;
-      const Eigen::Matrix<double, 6, 1> vector = weighted.transpose() * z;
-      for (const OffsetBlock& block : term.view->blocks) {
-        information_vector.segment(block.start, block.size()).noalias() += block.basis.transpose() * vector;
-      }
-    }
-    information += term.noise_inverse;
-    information_mean.noalias() += term.noise_inverse * z;
+    information += terms[k].noise_inverse;
+    information_mean.noalias() += terms[k].noise_inverse * measurements[k]->position.mean();
   }
   // a_i given β, all measurements at once (z_k − (B_i + G_k) β = a_i + e_k):
   //   P' = (P⁻¹ + Σ R_k⁻¹)⁻¹,  â' = P' (P⁻¹ â + Σ R_k⁻¹ z_k),  B' = P' P⁻¹ B − Σ_k P' R_k⁻¹ G_k,
   // the last since p_i = a_i + B β: B − P' Σ R_k⁻¹ (B + G_k) = P' (P'⁻¹ − Σ R_k⁻¹) B − … .
   const Cholesky3 posterior_factor(information);  // P'⁻¹ = L Lᵀ
   if (!posterior_factor.ok()) throw std::runtime_error("registration: a position's information is not positive definite");
+  const Cholesky3 innovation_factor(single ? Matrix3d(object.covariance + noise_scales[0] * measurements[0]->position.covariance())
+                                           : Matrix3d::Identity());  // S = L_S L_Sᵀ
+  if (!innovation_factor.ok()) throw std::runtime_error("registration: an innovation's covariance is not positive definite");
+  // Nothing throws from here on.
+  Eigen::VectorXd& information_vector = offsets_information_vector_;
+  const std::size_t pending_added = pending_added_.size(), pending_subtracted = pending_subtracted_.size();
+  pending_added_.resize(pending_added + static_cast<std::size_t>(3 * size));
+  Eigen::Map<MatrixX3> added(pending_added_.data() + pending_added, size, 3);
+  Vector3d before_w = Vector3d::Zero();
+  if (single) {
+    // Xᵀ = Cᵀ L_S⁻ᵀ: B's columns, then each of the view's blocks' G = H × basis.
+    const UpdateTerm& term = terms.front();
+    const Matrix3d whitening = innovation_factor.inverse_factor();  // L_S⁻¹
+    added.noalias() = (whitening.lazyProduct(object.offsets)).transpose();
+    for (const OffsetBlock& block : term.view->blocks) {
+      const Matrix36 g = whitening * (term.jacobian * block.padded_basis);
+      added.middleRows(block.start, block.size()) += g.leftCols(block.size()).transpose();
+    }
+    information_vector.noalias() += added * (whitening * (measurements[0]->position.mean() - object.mean));
+  } else {
+    // Each view's own term: G_kᵀ R_k⁻¹ G_k and G_kᵀ R_k⁻¹ z_k with G_k = H_k × a block's basis: H_kᵀ R_k⁻¹ H_k
+    // joins the view's pending sum (added to M's blocks of the view when M is next folded), and
+    // the vector goes to m now.
+    for (std::size_t k = 0; k < measurements.size(); ++k) {
+      const UpdateTerm& term = terms[k];
+      if (term.view == nullptr) continue;
+      const Matrix36 weighted = term.noise_inverse * term.jacobian;  // R_k⁻¹ H_k
+      term.view->pending_information.noalias() += term.jacobian.transpose() * weighted;
+      term.view->has_pending_information = true;
+      const Eigen::Matrix<double, 6, 1> vector = weighted.transpose() * measurements[k]->position.mean();
+      for (const OffsetBlock& block : term.view->blocks) {
+        information_vector.segment(block.start, block.size()).noalias() += block.basis.transpose() * vector;
+      }
+    }
+    // Before: the conditional's term (F B)ᵀ (F B) and (F B)ᵀ F â.
+    added.noalias() = (prior_whitening.lazyProduct(object.offsets)).transpose();
+    before_w = prior_whitening * object.mean;
+  }
   const Matrix3d covariance = symmetrised(posterior_factor.inverse());  // P'
-  const std::size_t pending = pending_added_.size();
-  pending_added_.resize(pending + static_cast<std::size_t>(3 * size));
-  pending_subtracted_.resize(pending + static_cast<std::size_t>(3 * size));
-  Eigen::Map<MatrixX3> before(pending_added_.data() + pending, size, 3);
-  before.noalias() = (prior_whitening.lazyProduct(object.offsets)).transpose();
   const Matrix3d carried = covariance * prior_information;             // P' P⁻¹
   for (Eigen::Index j = 0; j < object.offsets.cols(); ++j) object.offsets.col(j) = carried * object.offsets.col(j);
   for (const UpdateTerm& term : terms) {
@@ -291,14 +282,15 @@ void JointRegistration::update(std::span<const Measurement* const> measurements,
   object.mean = covariance * information_mean;
   object.covariance = covariance;
   object.spread_version = 0;
-  // After: P'⁻¹ = L Lᵀ, so F' = Lᵀ: the term (Lᵀ B')ᵀ = B'ᵀ L and Lᵀ â', U₊ into the pending columns.
-  // β: the conditional's term before, less the term after (M's part pending until M is next read).
-  const Matrix3d posterior_whitening = posterior_factor.matrix_l().transpose();
-  Eigen::Map<MatrixX3> after(pending_subtracted_.data() + pending, size, 3);
-  after.noalias() = (posterior_whitening.lazyProduct(object.offsets)).transpose();
-  const Vector3d after_w = posterior_whitening * object.mean;
-  information_vector.noalias() -= before * before_w;
-  information_vector.noalias() += after * after_w;
+  if (!single) {
+    // After: P'⁻¹ = L Lᵀ, so F' = Lᵀ: the term (Lᵀ B')ᵀ (Lᵀ B') and (Lᵀ B')ᵀ Lᵀ â', subtracted.
+    const Matrix3d posterior_whitening = posterior_factor.matrix_l().transpose();
+    pending_subtracted_.resize(pending_subtracted + static_cast<std::size_t>(3 * size));
+    Eigen::Map<MatrixX3> after(pending_subtracted_.data() + pending_subtracted, size, 3);
+    after.noalias() = (posterior_whitening.lazyProduct(object.offsets)).transpose();
+    information_vector.noalias() -= added * before_w;
+    information_vector.noalias() += after * (posterior_whitening * object.mean);
+  }
   ++version_;
   if (pending_added_.size() >= kMaxPendingColumns * static_cast<std::size_t>(information_vector.size())) {
     fold_pending_terms();
@@ -323,16 +315,20 @@ void JointRegistration::fold_pending_terms() const {
   }
   if (pending_added_.empty()) return;
   const Eigen::Index size = offsets_information_.rows();
-  const auto columns = static_cast<Eigen::Index>(pending_added_.size()) / size;
-  const Eigen::Map<const Eigen::MatrixXd> added(pending_added_.data(), size, columns);
-  const Eigen::Map<const Eigen::MatrixXd> subtracted(pending_subtracted_.data(), size, columns);
-  if (columns < kBlockedColumns) {
-    for (Eigen::Index first = 0; first < columns; first += 3) {
+  const auto added_columns = static_cast<Eigen::Index>(pending_added_.size()) / size;
+  const auto subtracted_columns = static_cast<Eigen::Index>(pending_subtracted_.size()) / size;
+  const Eigen::Map<const Eigen::MatrixXd> added(pending_added_.data(), size, added_columns);
+  const Eigen::Map<const Eigen::MatrixXd> subtracted(pending_subtracted_.data(), size, subtracted_columns);
+  if (added_columns < kBlockedColumns) {
+    // Added and subtracted terms in pairs, one pass over M for both, then the added ones left.
+    Eigen::Index first = 0;
+    for (; first < subtracted_columns; first += 3) {
       add_rank3_difference(offsets_information_, added.middleCols<3>(first), subtracted.middleCols<3>(first));
     }
+    for (; first < added_columns; first += 3) add_rank3(offsets_information_, added.middleCols<3>(first), 1.0);
   } else {
     offsets_information_.selfadjointView<Eigen::Lower>().rankUpdate(added, 1.0);
-    offsets_information_.selfadjointView<Eigen::Lower>().rankUpdate(subtracted, -1.0);
+    if (subtracted_columns > 0) offsets_information_.selfadjointView<Eigen::Lower>().rankUpdate(subtracted, -1.0);
   }
   pending_added_.clear();
   pending_subtracted_.clear();
@@ -451,11 +447,12 @@ void JointRegistration::refresh() const {
     offsets_mean_.resize(0);
     return;
   }
-  offsets_factor_.compute(offsets_information_);
-  if (offsets_factor_.info() != Eigen::Success) {
+  offsets_factor_ = offsets_information_;
+  if (!factor_lower(offsets_factor_)) {
     throw std::runtime_error("registration: the offsets' information is not positive definite");
   }
-  offsets_mean_ = offsets_factor_.solve(offsets_information_vector_);
+  offsets_mean_ = offsets_information_vector_;
+  solve_factored(offsets_factor_, offsets_mean_);
 }
 
 const JointRegistration::ObjectState& JointRegistration::whitened(const ObjectState& object) const {
@@ -463,7 +460,7 @@ const JointRegistration::ObjectState& JointRegistration::whitened(const ObjectSt
   if (object.spread_version == version_) return object;
   object.spread_version = version_;
   object.whitened_offsets = object.offsets.transpose();
-  if (object.whitened_offsets.rows() > 0) forward_substitute(offsets_factor_.matrixLLT(), object.whitened_offsets);
+  if (object.whitened_offsets.rows() > 0) forward_substitute(offsets_factor_, object.whitened_offsets);
   object.offsets_spread = object.whitened_offsets.transpose() * object.whitened_offsets;
   return object;
 }
@@ -473,7 +470,7 @@ const Eigen::Matrix<double, Eigen::Dynamic, 6>& JointRegistration::whitened_sele
   if (view.whitened_version != version_) {
     view.whitened_version = version_;
     view.whitened_selector = offset_selector(view).transpose();
-    if (view.whitened_selector.rows() > 0) forward_substitute(offsets_factor_.matrixLLT(), view.whitened_selector);
+    if (view.whitened_selector.rows() > 0) forward_substitute(offsets_factor_, view.whitened_selector);
   }
   return view.whitened_selector;
 }
@@ -530,7 +527,7 @@ std::vector<Gaussian3> JointRegistration::positions(std::span<const std::string_
     for (std::size_t s = 0; s < stale.size(); ++s) {
       whitened.middleCols<3>(static_cast<Eigen::Index>(3 * s)) = stale[s]->offsets.transpose();
     }
-    offsets_factor_.matrixL().solveInPlace(whitened);  // L⁻¹ Bᵀ
+    offsets_factor_.triangularView<Eigen::Lower>().solveInPlace(whitened);  // L⁻¹ Bᵀ
     for (std::size_t s = 0; s < stale.size(); ++s) {
       stale[s]->whitened_offsets = whitened.middleCols<3>(static_cast<Eigen::Index>(3 * s));
       stale[s]->offsets_spread = stale[s]->whitened_offsets.transpose() * stale[s]->whitened_offsets;

@@ -38,6 +38,9 @@
 //                   and writing the result with the new conditional (â', B', P'):
 //                   M += Σ_k G_kᵀ R_k⁻¹ G_k + BᵀP⁻¹B − B'ᵀP'⁻¹B',
 //                   m += Σ_k G_kᵀ R_k⁻¹ z_k − BᵀP⁻¹â + B'ᵀP'⁻¹â'
+//                 which for one measurement (k = 1, what views on their own clocks give) is the
+//                 information z alone gives of β, with C = B + G and S = P + R:
+//                   M += Cᵀ S⁻¹ C,  m += Cᵀ S⁻¹ (z − â)      (one rank-3 term, XᵀX with X = L_S⁻¹ C)
 //                 (every other a_j is independent of z and keeps its own; their positions move with β̂)
 //   remove      drop a_i and B_i: the exact marginal of the rest
 //   release     view u's translation jumps by w ~ N(0, W) from now on: w joins β as a block of its own
@@ -45,12 +48,12 @@
 //               measurements depend on t_u + w, and no position depends on it — the dense filter's
 //               Σ_tt += W, exactly.
 // What is read (a position, an innovation, an offset) needs β̂ and Σ_β: M = L Lᵀ is factored once
-// after it changes, and B Σ_β Bᵀ = ‖L⁻¹Bᵀ‖².
+// after it changes, and B Σ_β Bᵀ = ‖L⁻¹Bᵀ‖² (dense_kernels.hpp).
 //
 // Cost, with n the scene's views, c ≤ 6n the offsets' dimension, m the scene's objects and k the
 // measurements of an object at one time: an update costs O(c + k) for the conditional (B' is one
-// 3 × 3 product with B and a block per view) and two rank-3 terms of M, O(c²), whatever k and m —
-// kept pending and added for all of an event's objects at once, as two blocked rank updates (each
+// 3 × 3 product with B and a block per view) and two rank-3 terms of M (one for k = 1), O(c²),
+// whatever k and m — kept pending and added for all of an event's objects at once (each
 // measurement's own term G_kᵀR_k⁻¹G_k, on its view's blocks, joins a 6 × 6 sum per view, added to
 // M once per fold); reading
 // a position O(c²) (an event's positions in one blocked solve), an innovation O(c) after it (the
@@ -208,10 +211,10 @@ class JointRegistration {
   };
   std::unordered_map<std::string, ObjectState, NameHash, std::equal_to<>> objects_;
   std::unordered_map<std::string, ViewBlocks, NameHash, std::equal_to<>> views_;
-  // M (its lower triangle), less the pending terms of updates: each update's conditional terms before
-  // and after, M += U₊U₊ᵀ − U₋U₋ᵀ with U± = (L_P⁻¹ B)ᵀ (c × 3), are kept as columns (c each, column-major)
-  // and added when M is next factored or β grows, all at once: two blocked rank updates of M per event
-  // instead of a pass over M per object. At most kMaxPendingColumns are kept.
+  // M (its lower triangle), less the pending terms of updates: M += U₊U₊ᵀ − U₋U₋ᵀ, with U₊ = Xᵀ for
+  // one measurement, else U₊ = (L_P⁻¹ B)ᵀ and U₋ = (L_P'⁻¹ B')ᵀ (c × 3 each), kept as columns (c each,
+  // column-major) and added when M is next factored or β grows, all at once: one pass over M per
+  // pair of terms, or blocked rank updates for many. At most kMaxPendingColumns are kept.
   mutable Eigen::MatrixXd offsets_information_;
   mutable std::vector<double> pending_added_, pending_subtracted_;
   // update()'s work space: per measurement, its view, H_k and R_k⁻¹ (kept so as not to allocate).
@@ -222,8 +225,9 @@ class JointRegistration {
   };
   std::vector<UpdateTerm> update_terms_;
   Eigen::VectorXd offsets_information_vector_;  // m
-  // Read through refresh(): the factor L of M and β̂, for the M they were made from.
-  mutable Eigen::LLT<Eigen::MatrixXd, Eigen::Lower> offsets_factor_;
+  // Read through refresh(): the factor L of M (its lower triangle; dense_kernels.hpp) and β̂, for the
+  // M they were made from.
+  mutable Eigen::MatrixXd offsets_factor_;
   mutable Eigen::VectorXd offsets_mean_;
   std::uint64_t version_ = 1;                   // changes with M
   mutable std::uint64_t factored_version_ = 1;  // the M that the factor and β̂ were made from

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <stdexcept>
 #include <string>
+#include <span>
 #include <utility>
 
 namespace stgf {
@@ -76,9 +77,9 @@ void attend(const MotionNetworkWeights::GraphAttention& layer, const MotionFeatu
 
 }  // namespace
 
-MotionInference::MotionInference(MotionNetworkWeights weights) : weights_(std::move(weights)) {
+MotionInference::MotionInference(MotionNetworkWeights weights)
+    : weights_(std::move(weights)), hidden_(weights_.encoder.recurrent.cols()), memo_(kEncodingMemoSlots, hidden_) {
   const MotionNetworkWeights& w = weights_;
-  hidden_ = w.encoder.recurrent.cols();
   const Eigen::Index embedding = w.embed.rows();
   require(w.embed.cols() == kMotionFeatures && w.embed_bias.size() == embedding, "embedding");
   check_lstm(w.encoder, embedding, hidden_, "encoder");
@@ -101,7 +102,14 @@ Eigen::Matrix3Xf MotionInference::accelerations(const MotionFeatures& features) 
   // Encoder: m (and the cell state c) per object.
   Eigen::MatrixXf motion_embedding(hidden, objects), cell(hidden, objects);
   Eigen::VectorXf embedded(w.embed.rows()), gates(4 * hidden), h(hidden), c(hidden);
+  const std::size_t inputs = static_cast<std::size_t>(history) * kMotionFeatures;
   for (Eigen::Index n = 0; n < objects; ++n) {
+    const std::span<const float> object_inputs(features.motion.data() + static_cast<std::size_t>(n) * inputs, inputs);
+    if (memo_.find(object_inputs, h, c)) {
+      motion_embedding.col(n) = h;
+      cell.col(n) = c;
+      continue;
+    }
     h.setZero();
     c.setZero();
     for (int k = 0; k < history; ++k) {
@@ -114,6 +122,7 @@ Eigen::Matrix3Xf MotionInference::accelerations(const MotionFeatures& features) 
       gates.noalias() += w.encoder.recurrent * h;
       lstm_step(gates, hidden, h, c);
     }
+    memo_.store(object_inputs, h, c);
     motion_embedding.col(n) = h;
     cell.col(n) = c;
   }

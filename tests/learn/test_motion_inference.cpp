@@ -113,6 +113,26 @@ TEST(MotionInference, AnObjectsForecastDoesNotDependOnTheRestOfTheBatch) {
   }
 }
 
+// Objects met before take their encoder state from the memo: the same bits as encoding them, in a
+// batch where the others are new (the memo's copy in `fresh` starts empty).
+TEST(MotionInference, AnObjectFromTheMemoGetsTheSameBitsAsEncodingIt) {
+  MotionModel model(MotionModelShape{}, MotionNormalisation{}, 9);
+  randomise_weights(model, 9);
+  const std::vector<MotionGraph> seen = random_graphs(10, 6, 8, 21), unseen = random_graphs(10, 6, 8, 22);
+  std::vector<MotionGraph> mixed = seen;
+  mixed.insert(mixed.end(), unseen.begin(), unseen.end());
+  const MotionFeatures features = make_motion_features(mixed, model.shape(), model.normalisation());
+  const MotionInference fresh = *model.impl().inference();
+  const Eigen::Matrix3Xf encoded = fresh.accelerations(features);
+  const MotionInference& remembering = *model.impl().inference();
+  remembering.accelerations(make_motion_features(seen, model.shape(), model.normalisation()));
+  const Eigen::Matrix3Xf from_memo = remembering.accelerations(features);
+  const Eigen::Matrix3Xf again = remembering.accelerations(features);
+  ASSERT_EQ(encoded.cols(), from_memo.cols());
+  EXPECT_TRUE((encoded.array() == from_memo.array()).all());
+  EXPECT_TRUE((encoded.array() == again.array()).all());
+}
+
 TEST(MotionInference, ForecastFollowsTheWeightsAsTheyChange) {
   MotionModel model(stgf::testing::tiny_shape(), MotionNormalisation{}, 4);
   const std::vector<MotionGraph> graphs = random_graphs(3, 4, 4, 6);
