@@ -42,14 +42,21 @@ inline bool factor_lower(Eigen::MatrixXd& a) {
   return true;
 }
 
-// X ← L⁻¹ X for the lower triangle L of `factor` (forward substitution by columns of L).
+// X ← L⁻¹ X for the lower triangle L of `factor` (forward substitution by columns of L), the
+// right-hand sides side by side in one pass down each column of L.
 template <int Columns>
 void forward_substitute(const Eigen::MatrixXd& factor, Eigen::Matrix<double, Eigen::Dynamic, Columns>& x) {
+  static_assert(Columns > 0, "a fixed number of right-hand sides");
   const Eigen::Index size = factor.rows();
+  double* columns[Columns];
+  for (int k = 0; k < Columns; ++k) columns[k] = x.col(k).data();
   for (Eigen::Index j = 0; j < size; ++j) {
-    x.row(j) /= factor(j, j);
-    const Eigen::Index below = size - j - 1;
-    if (below > 0) x.bottomRows(below).noalias() -= factor.col(j).tail(below) * x.row(j);
+    const double* l = factor.col(j).data();
+    double solved[Columns];
+    for (int k = 0; k < Columns; ++k) solved[k] = columns[k][j] /= l[j];
+    for (Eigen::Index i = j + 1; i < size; ++i) {
+      for (int k = 0; k < Columns; ++k) columns[k][i] -= l[i] * solved[k];
+    }
   }
 }
 
@@ -59,26 +66,37 @@ inline void solve_factored(const Eigen::MatrixXd& factor, Eigen::VectorXd& x) {
   factor.triangularView<Eigen::Lower>().transpose().solveInPlace(x);
 }
 
-// The lower triangle of M gets A Aᵀ − B Bᵀ (A, B: c × 3), in one pass.
-template <class Added, class Subtracted>
-void add_rank3_difference(Eigen::MatrixXd& lower, const Added& a, const Subtracted& b) {
+namespace detail {
+// Column j of the lower triangle gets Σ_t sign_t u_t u_tᵀ for the columns u_t of `terms` (at most 6).
+template <int Terms>
+void add_rank_terms(Eigen::MatrixXd& lower, const double* const (&terms)[Terms], const double (&signs)[Terms]) {
   const Eigen::Index size = lower.rows();
   for (Eigen::Index j = 0; j < size; ++j) {
-    const Eigen::Index n = size - j;
-    lower.col(j).tail(n) += a.col(0).tail(n) * a(j, 0) + a.col(1).tail(n) * a(j, 1) + a.col(2).tail(n) * a(j, 2) -
-                            b.col(0).tail(n) * b(j, 0) - b.col(1).tail(n) * b(j, 1) - b.col(2).tail(n) * b(j, 2);
+    double* column = lower.col(j).data();
+    double scales[Terms];
+    for (int t = 0; t < Terms; ++t) scales[t] = signs[t] * terms[t][j];
+    for (Eigen::Index i = j; i < size; ++i) {
+      double sum = 0.0;
+      for (int t = 0; t < Terms; ++t) sum += terms[t][i] * scales[t];
+      column[i] += sum;
+    }
   }
 }
+}  // namespace detail
 
-// The lower triangle of M gets sign · U Uᵀ (U: c × 3).
+// The lower triangle of M gets A Aᵀ − B Bᵀ (A, B: c × 3, contiguous columns), in one pass.
+template <class Added, class Subtracted>
+void add_rank3_difference(Eigen::MatrixXd& lower, const Added& a, const Subtracted& b) {
+  const double* const terms[6] = {a.col(0).data(), a.col(1).data(), a.col(2).data(),
+                                  b.col(0).data(), b.col(1).data(), b.col(2).data()};
+  detail::add_rank_terms<6>(lower, terms, {1.0, 1.0, 1.0, -1.0, -1.0, -1.0});
+}
+
+// The lower triangle of M gets sign · U Uᵀ (U: c × 3, contiguous columns).
 template <class Columns>
 void add_rank3(Eigen::MatrixXd& lower, const Columns& u, double sign) {
-  const Eigen::Index size = lower.rows();
-  for (Eigen::Index j = 0; j < size; ++j) {
-    const Eigen::Index n = size - j;
-    lower.col(j).tail(n) += u.col(0).tail(n) * (sign * u(j, 0)) + u.col(1).tail(n) * (sign * u(j, 1)) +
-                            u.col(2).tail(n) * (sign * u(j, 2));
-  }
+  const double* const terms[3] = {u.col(0).data(), u.col(1).data(), u.col(2).data()};
+  detail::add_rank_terms<3>(lower, terms, {sign, sign, sign});
 }
 
 }  // namespace stgf
