@@ -61,9 +61,13 @@ void forward_substitute(const Eigen::MatrixXd& factor, Eigen::Matrix<double, Eig
 }
 
 // x ← M⁻¹ x = L⁻ᵀ L⁻¹ x for the lower triangle L of `factor`.
+// Forward substitution, then back substitution with Lᵀ by dot products with the columns of L.
 inline void solve_factored(const Eigen::MatrixXd& factor, Eigen::VectorXd& x) {
-  factor.triangularView<Eigen::Lower>().solveInPlace(x);
-  factor.triangularView<Eigen::Lower>().transpose().solveInPlace(x);
+  forward_substitute(factor, x);
+  for (Eigen::Index j = factor.rows() - 1; j >= 0; --j) {
+    const Eigen::Index below = factor.rows() - j - 1;
+    x(j) = (x(j) - factor.col(j).tail(below).dot(x.tail(below))) / factor(j, j);
+  }
 }
 
 namespace detail {
