@@ -43,14 +43,16 @@ inline bool factor_lower(Eigen::MatrixXd& a) {
 }
 
 // X ← L⁻¹ X for the lower triangle L of `factor` (forward substitution by columns of L), the
-// right-hand sides side by side in one pass down each column of L.
+// right-hand sides side by side in one pass down each column of L. X's rows above `first_nonzero`
+// are zero, and stay so: the substitution starts there (a view's selector, nonzero on its blocks only).
 template <int Columns>
-void forward_substitute(const Eigen::MatrixXd& factor, Eigen::Matrix<double, Eigen::Dynamic, Columns>& x) {
+void forward_substitute(const Eigen::MatrixXd& factor, Eigen::Matrix<double, Eigen::Dynamic, Columns>& x,
+                        Eigen::Index first_nonzero = 0) {
   static_assert(Columns > 0, "a fixed number of right-hand sides");
   const Eigen::Index size = factor.rows();
   double* columns[Columns];
   for (int k = 0; k < Columns; ++k) columns[k] = x.col(k).data();
-  for (Eigen::Index j = 0; j < size; ++j) {
+  for (Eigen::Index j = first_nonzero; j < size; ++j) {
     const double* l = factor.col(j).data();
     double solved[Columns];
     for (int k = 0; k < Columns; ++k) solved[k] = columns[k][j] /= l[j];

@@ -470,7 +470,10 @@ const Eigen::Matrix<double, Eigen::Dynamic, 6>& JointRegistration::whitened_sele
   if (view.whitened_version != version_) {
     view.whitened_version = version_;
     view.whitened_selector = offset_selector(view).transpose();
-    if (view.whitened_selector.rows() > 0) forward_substitute(offsets_factor_, view.whitened_selector);
+    // E_uᵀ is zero above the view's first block (its own; released ones come later in β).
+    Eigen::Index first = view.whitened_selector.rows();
+    for (const OffsetBlock& block : view.blocks) first = std::min(first, block.start);
+    if (view.whitened_selector.rows() > 0) forward_substitute(offsets_factor_, view.whitened_selector, first);
   }
   return view.whitened_selector;
 }

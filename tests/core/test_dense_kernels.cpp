@@ -1,7 +1,8 @@
 // SPDX-License-Identifier: Apache-2.0
 // The joint registration's dense kernels (core/dense_kernels.hpp) against Eigen's own: the Cholesky
 // factor on both sides of the hand-over to Eigen's blocked LLT, failure on what is not positive
-// definite, forward substitution, the solve, and the rank-3 updates of a lower triangle.
+// definite, forward substitution (also from the first nonzero row), the solve, and the rank-3
+// updates of a lower triangle.
 
 #include "stgf/core/dense_kernels.hpp"
 
@@ -66,6 +67,13 @@ TEST(DenseKernels, SubstitutionAndSolveInvertTheFactor) {
   const Eigen::Matrix<double, Eigen::Dynamic, 3> right_side = x;
   forward_substitute(factor, x);
   EXPECT_LE((lower * x - right_side).norm(), 1e-10);
+  // Zero rows at the top: starting below them gives the same bits.
+  Eigen::Matrix<double, Eigen::Dynamic, 6> selector = Eigen::Matrix<double, Eigen::Dynamic, 6>::Zero(30, 6);
+  selector.middleRows(12, 6) = random_matrix(6, 6, 11);
+  Eigen::Matrix<double, Eigen::Dynamic, 6> from_top = selector, from_first = selector;
+  forward_substitute(factor, from_top);
+  forward_substitute(factor, from_first, 12);
+  EXPECT_EQ(from_first, from_top);
   Eigen::VectorXd b = random_matrix(30, 1, 7);
   const Eigen::VectorXd original = b;
   solve_factored(factor, b);
