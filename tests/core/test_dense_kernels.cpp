@@ -41,7 +41,9 @@ TEST(DenseKernels, FactorIsEigensCholeskyBelowAndAboveTheHandOver) {
     const Eigen::MatrixXd expected = Eigen::LLT<Eigen::MatrixXd>(m).matrixL();
     const Eigen::MatrixXd actual = a.triangularView<Eigen::Lower>();
     EXPECT_LE((actual - expected).norm(), 1e-12 * expected.norm()) << size;
-    if (size > 1) EXPECT_EQ(a(0, size - 1), 7.0) << size;
+    if (size > 1) {
+      EXPECT_EQ(a(0, size - 1), 7.0) << size;
+    }
   }
 }
 
