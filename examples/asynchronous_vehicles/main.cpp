@@ -74,7 +74,7 @@ int run(int argc, char** argv) {
         const Vector3d noise(std::sqrt(r(0, 0)) * normal(random), std::sqrt(r(1, 1)) * normal(random),
                              std::sqrt(r(2, 2)) * normal(random));
         const Vector3d z = truth_at(object, t) + (peer ? peer_offset : Vector3d::Zero()) + noise;
-        message.measurements.push_back({"road", t, vehicle, object, Gaussian3::from_covariance(z, r), std::nullopt});
+        message.measurements.push_back({"road", t, vehicle, object, Gaussian3::from_covariance(z, r), std::nullopt, std::nullopt});
       }
       messages.push_back(std::move(message));
     }

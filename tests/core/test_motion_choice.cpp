@@ -56,7 +56,9 @@ TEST(MotionChoice, SwitchesOnceConstantVelocityIsFavouredByOddsOfAHundredToOne) 
     const Vector3d fallback = draw(random);
     choice.add(fallback + Vector3d(0.2, 0.0, 0.0), fallback, kKnown, kProcess, learned, /*adapt=*/true);
     // Exactly when the evidence passes ln 100, not before.
-    if (!switched) EXPECT_EQ(choice.constant_velocity(), choice.evidence() > MotionChoice::kSwitchEvidence);
+    if (!switched) {
+      EXPECT_EQ(choice.constant_velocity(), choice.evidence() > MotionChoice::kSwitchEvidence);
+    }
     switched = switched || choice.constant_velocity();
   }
   EXPECT_TRUE(choice.constant_velocity());
@@ -76,7 +78,9 @@ TEST(MotionChoice, GoesBackOnlyOnStrongEvidenceForTheModel) {
     const double before = choice.evidence();
     const Vector3d model = draw(random);
     choice.add(model, model + Vector3d(0.2, 0.0, 0.0), kKnown, kProcess, learned, /*adapt=*/false);
-    if (choice.constant_velocity()) EXPECT_GT(choice.evidence(), -MotionChoice::kSwitchEvidence);
+    if (choice.constant_velocity()) {
+      EXPECT_GT(choice.evidence(), -MotionChoice::kSwitchEvidence);
+    }
     ASSERT_LT(choice.samples(), 1000u) << "never went back; evidence " << before;
   }
   EXPECT_LT(choice.evidence(), -MotionChoice::kSwitchEvidence);

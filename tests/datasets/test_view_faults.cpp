@@ -60,7 +60,9 @@ TEST(ViewFaults, OutliersAreASeededShareOfTheViewsRowsInTheirRange) {
   EXPECT_LT(summary.changed_rows, 70u);
   for (std::size_t k = 0; k < rows.size(); ++k) {
     const double moved = (rows[k].position.mean() - clean[k].position.mean()).norm();
-    if (rows[k].view != "a") EXPECT_EQ(moved, 0.0);
+    if (rows[k].view != "a") {
+      EXPECT_EQ(moved, 0.0);
+    }
     if (moved > 0.0) {
       EXPECT_GE(moved, 5.0 - 1e-9);
       EXPECT_LE(moved, 20.0 + 1e-9);

@@ -59,7 +59,8 @@ TEST(SpatiotemporalGraphFilter, OneViewWithConstantVelocityIsAKalmanFilter) {
     }
     if (k > 0) kalman_update(x, p, zs[k], r);
     fused.push_back(x);
-    const std::vector<Gaussian3> estimates = step(filter, k * dt, {measurement(k * dt, "v", "o", zs[k], r)});
+    const double time = static_cast<double>(k) * dt;
+    const std::vector<Gaussian3> estimates = step(filter, time, {measurement(time, "v", "o", zs[k], r)});
     ASSERT_EQ(estimates.size(), 1u);
     EXPECT_LT((estimates[0].mean() - x).norm(), 1e-9) << "step " << k;
     EXPECT_LT((estimates[0].covariance() - p).norm(), 1e-9) << "step " << k;
@@ -143,7 +144,7 @@ TEST(SpatiotemporalGraphFilter, TrackUnseenBeyondTheHorizonStartsAgain) {
 TEST(SpatiotemporalGraphFilter, EstimatesDoNotDependOnWhereTheWorldOriginIs) {
   const ConstantVelocityPredictor predictor(0.2, 1.0);
   const Vector3d origin(512345.0, 4123456.0, 210.0);
-  for (const RegistrationPrior registration : {RegistrationPrior{}, RegistrationPrior{Vector3d(0.2, 0.2, 0.0), 0.5}}) {
+  for (const RegistrationPrior& registration : {RegistrationPrior{}, RegistrationPrior{Vector3d(0.2, 0.2, 0.0), 0.5}}) {
     SpatiotemporalGraphFilter near(predictor, {registration, true}), far(predictor, {registration, true});
     std::mt19937_64 random(4);
     std::normal_distribution<double> normal;
