@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
 #include <stdexcept>
 
 #include <Eigen/Eigenvalues>
@@ -230,9 +231,11 @@ void JointRegistration::update(std::span<const Measurement* const> measurements,
   // the last since p_i = a_i + B β: B − P' Σ R_k⁻¹ (B + G_k) = P' (P'⁻¹ − Σ R_k⁻¹) B − … .
   const Cholesky3 posterior_factor(information);  // P'⁻¹ = L Lᵀ
   if (!posterior_factor.ok()) throw std::runtime_error("registration: a position's information is not positive definite");
-  const Cholesky3 innovation_factor(single ? Matrix3d(object.covariance + noise_scales[0] * measurements[0]->position.covariance())
-                                           : Matrix3d::Identity());  // S = L_S L_Sᵀ
-  if (!innovation_factor.ok()) throw std::runtime_error("registration: an innovation's covariance is not positive definite");
+  std::optional<Cholesky3> innovation_factor;  // one measurement's S = P + R = L_S L_Sᵀ
+  if (single) {
+    innovation_factor.emplace(object.covariance + noise_scales[0] * measurements[0]->position.covariance());
+    if (!innovation_factor->ok()) throw std::runtime_error("registration: an innovation's covariance is not positive definite");
+  }
   // Nothing throws from here on.
   Eigen::VectorXd& information_vector = offsets_information_vector_;
   const std::size_t pending_added = pending_added_.size(), pending_subtracted = pending_subtracted_.size();
@@ -242,7 +245,7 @@ void JointRegistration::update(std::span<const Measurement* const> measurements,
   if (single) {
     // Xᵀ = Cᵀ L_S⁻ᵀ: B's columns, then each of the view's blocks' G = H × basis.
     const UpdateTerm& term = terms.front();
-    const Matrix3d whitening = innovation_factor.inverse_factor();  // L_S⁻¹
+    const Matrix3d whitening = innovation_factor->inverse_factor();  // L_S⁻¹
     added.noalias() = (whitening.lazyProduct(object.offsets)).transpose();
     for (const OffsetBlock& block : term.view->blocks) {
       const Matrix36 g = whitening * (term.jacobian * block.padded_basis);

@@ -21,7 +21,6 @@ EncodingMemo& EncodingMemo::operator=(const EncodingMemo& other) {
   slots_ = other.slots_;
   hidden_ = other.hidden_;
   inputs_ = 0;
-  stride_ = 0;
   table_.clear();
   occupied_.clear();
   return *this;
@@ -49,8 +48,7 @@ void EncodingMemo::store(std::span<const float> inputs, const Eigen::VectorXf& h
   const std::lock_guard lock(mutex_);
   if (table_.empty() || inputs.size() != inputs_) {
     inputs_ = inputs.size();
-    stride_ = inputs_ + 2 * static_cast<std::size_t>(hidden_);
-    table_.assign(slots_ * stride_, 0.0f);
+    table_.assign(slots_ * stride(), 0.0f);
     occupied_.assign(slots_, 0);
   }
   float* stored = entry(slot);

@@ -36,13 +36,13 @@ class EncodingMemo {
 
  private:
   std::size_t slot_of(std::span<const float> inputs) const;
-  float* entry(std::size_t slot) { return table_.data() + slot * stride_; }
-  const float* entry(std::size_t slot) const { return table_.data() + slot * stride_; }
+  std::size_t stride() const { return inputs_ + 2 * static_cast<std::size_t>(hidden_); }
+  float* entry(std::size_t slot) { return table_.data() + slot * stride(); }
+  const float* entry(std::size_t slot) const { return table_.data() + slot * stride(); }
 
   std::size_t slots_;
   Eigen::Index hidden_;
   std::size_t inputs_ = 0;  // per entry: the inputs, then h, then c
-  std::size_t stride_ = 0;
   mutable std::mutex mutex_;
   std::vector<float> table_;     // empty until the first store
   std::vector<char> occupied_;   // per slot

@@ -3,9 +3,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <span>
 #include <stdexcept>
 #include <string>
-#include <span>
 #include <utility>
 
 namespace stgf {
