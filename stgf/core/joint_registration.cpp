@@ -338,8 +338,12 @@ void JointRegistration::fold_pending_terms() const {
 }
 
 void JointRegistration::observe_differences(std::span<const Measurement* const> measurements,
-                                            std::span<const double> noise_scales) {
+                                            std::span<const double> noise_scales,
+                                            std::span<const Matrix3d> alignment_covariances) {
   if (measurements.size() != noise_scales.size()) throw std::invalid_argument("JointRegistration::observe_differences: one noise scale per measurement");
+  if (!alignment_covariances.empty() && alignment_covariances.size() != measurements.size()) {
+    throw std::invalid_argument("JointRegistration::observe_differences: one alignment covariance per measurement, or none");
+  }
   if (prior_.is_zero() || measurements.size() < 2 || prior_scale_.has_enough_evidence()) return;
   // A_j = Σ_k G_kᵀ W_k G_k − Fᵀ S⁻¹ F and b_j = Σ_k G_kᵀ W_k z_k − Fᵀ S⁻¹ y (registration_prior_scale.hpp),
   // block by block: G_k is nonzero on its view's blocks only, which are contiguous in β and disjoint
@@ -366,7 +370,9 @@ void JointRegistration::observe_differences(std::span<const Measurement* const> 
     const Measurement& measurement = *measurements[k];
     const ViewBlocks* view = view_blocks(measurement.view);
     if (view == nullptr) throw std::logic_error("JointRegistration::observe_differences: a view not yet in β");
-    const Cholesky3 noise_factor(noise_scales[k] * measurement.position.covariance());
+    Matrix3d noise = noise_scales[k] * measurement.position.covariance();
+    if (!alignment_covariances.empty()) noise += alignment_covariances[k];
+    const Cholesky3 noise_factor(noise);
     if (!noise_factor.ok()) throw std::runtime_error("registration: a measurement's covariance is not positive definite");
     const Vector3d& z = measurement.position.mean();
     Term& term = terms[k];

@@ -114,7 +114,11 @@ class JointRegistration {
   // and, once an event is done, re-estimates the prior's scale κ (when the evidence has doubled) and
   // gives M its new prior term, M += (1/κ' − 1/κ) Λ₀ on the views' own blocks — exact, since M is the
   // prior's information plus the data's. Returns whether κ changed. Without these calls, κ = 1.
-  void observe_differences(std::span<const Measurement* const> measurements, std::span<const double> noise_scales);
+  // Measurements of one object at several times, each moved to one time along a predicted path
+  // (frame_alignment.hpp), come with the covariance that moving adds to each, A_k: their weights are
+  // W_k = (μ_k R_k + A_k)⁻¹ (their offset model H_k stays that of R_k).
+  void observe_differences(std::span<const Measurement* const> measurements, std::span<const double> noise_scales,
+                           std::span<const Matrix3d> alignment_covariances = {});
   bool adapt_prior_scale();
   double prior_scale() const { return prior_scale_.scale(); }
   bool prior_scale_estimated() const { return prior_scale_.estimated(); }  // else κ = 1: too little evidence

@@ -83,6 +83,7 @@ void ObjectTrack::close_frame(const MotionPredictor& predictor) {
   while (history_.size() > limit) history_.pop_front();
   forecast_.reset();
   frame_time_.reset();
+  frame_alignment_ = FrameAlignment();
 }
 
 }  // namespace stgf

@@ -37,6 +37,7 @@
 #include <utility>
 #include <vector>
 
+#include "stgf/core/frame_alignment.hpp"
 #include "stgf/core/motion_predictor.hpp"
 #include "stgf/core/process_noise_scale.hpp"
 #include "stgf/core/records.hpp"
@@ -125,8 +126,12 @@ class ObjectTrack {
   bool has_frame() const { return frame_time_.has_value(); }
   double frame_time() const { return *frame_time_; }
   void open_frame(double time) { frame_time_ = time; }
-  // The state becomes a history position, the frame ends and the forecast is dropped.
+  // The state becomes a history position, the frame ends (with what it gathered) and the forecast is dropped.
   void close_frame(const MotionPredictor& predictor);
+  // The frame's measurements fused alone at their time, along the track's predicted path
+  // (frame_alignment.hpp): what they say of the views' offsets is read before the frame closes.
+  FrameAlignment& frame_alignment() { return frame_alignment_; }
+  const FrameAlignment& frame_alignment() const { return frame_alignment_; }
 
   // ── Gating (measurement_gate.hpp) ──
   // Consecutive times at which every measurement of the object failed the gate.
@@ -152,6 +157,7 @@ class ObjectTrack {
   std::deque<TrackPoint> history_;  // oldest first
   std::optional<MotionForecast> forecast_;
   std::optional<double> frame_time_;
+  FrameAlignment frame_alignment_;
   int gated_events_ = 0;
   bool started_in_conflict_ = false;
 };

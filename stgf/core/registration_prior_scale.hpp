@@ -50,8 +50,9 @@
 // Assumptions: every view's offset is drawn from the same prior (one κ for all; a single view far off
 // is the gate's business, view_noise_scales.hpp); the offsets are constant (a jump is a release); the
 // offset common to all views, which the differences do not show, is as large as the relative offsets
-// say, so it enters every position's covariance scaled by the same κ. Views on their own clocks
-// rarely measure an object at the same time: there the evidence stays thin and κ̂ near 1.
+// say, so it enters every position's covariance scaled by the same κ. Views on their own clocks,
+// which never measure an object at the same time, are compared within each track's frame, moved
+// along its predicted path to one time, the path's error added to their noise (frame_alignment.hpp).
 
 #include <cstddef>
 #include <span>

@@ -349,6 +349,7 @@ void SceneFilter::provide_forecasts(const std::vector<std::vector<MotionForecast
 
 void SceneFilter::close_frames(double time) {
   const double window = options_.tracks == TrackMode::kPerObject ? predictor_.history_spacing() : 0.0;
+  bool compared = false;
   for (auto& [key, track] : state_.tracks) {
     if (!track.has_frame()) continue;
     const double age = time - track.frame_time();
@@ -356,8 +357,18 @@ void SceneFilter::close_frames(double time) {
     // Jointly, later measurements of other objects may have refined this one's position through the
     // offsets: the history gets what is known of it now.
     if (joint()) track.update(track.state().time, state_.joint.position(key.second));
+    if (joint() && options_.adapt_registration_prior && track.frame_alignment().size() >= 2) {
+      // The measurements fused alone within the frame, compared along the track's path.
+      const FrameAlignment::Aligned aligned = track.frame_alignment().aligned();
+      std::vector<const Measurement*> measurements;
+      measurements.reserve(aligned.measurements.size());
+      for (const Measurement& measurement : aligned.measurements) measurements.push_back(&measurement);
+      state_.joint.observe_differences(measurements, aligned.noise_scales, aligned.covariances);
+      compared = true;
+    }
     track.close_frame(predictor_);
   }
+  if (compared) state_.joint.adapt_prior_scale();
 }
 
 Eigen::Matrix<double, 6, 1> SceneFilter::registration_offset(std::string_view view) const {
@@ -526,6 +537,7 @@ void SceneFilter::process_joint(Event& event) {
       motion = track.motion_to(time, predictor_, coasting ? coasting_scale : scale, constant_velocity);
       const Gaussian3 state = state_.joint.position(object);
       state_.joint.predict(object, motion->displacement, motion->covariance);
+      if (track.has_frame()) track.frame_alignment().follow(motion->displacement, motion->covariance);
       // The predicted position: p_i + d, Σ_ii + Q (what position() now gives, without recomputing it).
       prediction = TrackPrediction{
           Gaussian3::from_covariance(state.mean() + motion->displacement, state.covariance() + motion->covariance),
@@ -597,13 +609,18 @@ void SceneFilter::process_joint(Event& event) {
       state_.joint.predict(rows.front().measurement.object, Vector3d::Zero(), object.conflict_spread);
       track.mark_started_in_conflict();
     } else if (options_.adapt_registration_prior) {
-      // Every fused measurement of the object at this time, the anchor too, shows how the views disagree.
+      // Every fused measurement of the object at this time, the anchor too, shows how the views
+      // disagree; one alone is compared with the frame's others when the frame closes.
       if (track.empty()) {
         const Measurement& anchor = rows[decision.anchor].measurement;
         fused.insert(fused.begin(), &anchor);
         fused_scales.insert(fused_scales.begin(), noise_scale(anchor.view));
       }
-      state_.joint.observe_differences(fused, fused_scales);
+      if (fused.size() == 1) {
+        track.frame_alignment().gather(*fused.front(), fused_scales.front());
+      } else {
+        state_.joint.observe_differences(fused, fused_scales);
+      }
     }
     if (track.empty() || !fused.empty()) {
       track.reset_gated_events();
