@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: Apache-2.0
 #include "stgf/core/frame_alignment.hpp"
 
-#include <Eigen/Eigenvalues>
+#include <cmath>
 
 namespace stgf {
 
@@ -11,29 +11,27 @@ void FrameAlignment::follow(const Vector3d& displacement, const Matrix3d& covari
 }
 
 void FrameAlignment::gather(const Measurement& measurement, double noise_scale) {
-  Measurement moved = measurement;
-  moved.position = Gaussian3::from_covariance(measurement.position.mean() - displacement_, measurement.position.covariance());
-  gathered_.push_back(Gathered{std::move(moved), noise_scale, covariance_});
+  if (gathered_.empty()) gathered_.reserve(kTypicalViews);
+  Gathered& gathered = gathered_.emplace_back(Gathered{measurement, noise_scale, covariance_});
+  gathered.measurement.position = measurement.position.moved_by(-displacement_);
 }
 
-FrameAlignment::Aligned FrameAlignment::aligned() const {
-  Aligned aligned;
-  aligned.measurements.reserve(gathered_.size());
-  aligned.noise_scales.reserve(gathered_.size());
-  aligned.covariances.reserve(gathered_.size());
-  if (gathered_.empty()) return aligned;
-  // C_mid = (C_1 + C_n) / 2 (1 and n the first and last gathered), A_k = |C_k − C_mid|.
-  const Matrix3d middle = 0.5 * (gathered_.front().path_covariance + gathered_.back().path_covariance);
+void FrameAlignment::aligned(std::vector<const Measurement*>& measurements, std::vector<double>& noise_scales,
+                             std::vector<Matrix3d>& covariances) const {
+  measurements.clear();
+  noise_scales.clear();
+  covariances.clear();
+  if (gathered_.empty()) return;
+  // A_k = |s_k| (C_n − C_1) / 2 with s_k = 2 tr(C_k − C_1) / tr(C_n − C_1) − 1 ∈ [−1, 1].
+  const Matrix3d& first = gathered_.front().path_covariance;
+  const Matrix3d span = gathered_.back().path_covariance - first;
+  const double length = span.trace();
   for (const Gathered& gathered : gathered_) {
-    // |X| = V |Λ| Vᵀ: positive semidefinite whatever the order of C_k and C_mid.
-    const Eigen::SelfAdjointEigenSolver<Matrix3d> difference(symmetrised(gathered.path_covariance - middle));
-    const Matrix3d absolute =
-        difference.eigenvectors() * difference.eigenvalues().cwiseAbs().asDiagonal() * difference.eigenvectors().transpose();
-    aligned.measurements.push_back(gathered.measurement);
-    aligned.noise_scales.push_back(gathered.noise_scale);
-    aligned.covariances.push_back(symmetrised(absolute));
+    const double position = length > 0.0 ? 2.0 * (gathered.path_covariance - first).trace() / length - 1.0 : 0.0;
+    measurements.push_back(&gathered.measurement);
+    noise_scales.push_back(gathered.noise_scale);
+    covariances.push_back(0.5 * std::abs(position) * span);
   }
-  return aligned;
 }
 
 }  // namespace stgf

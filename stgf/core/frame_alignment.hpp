@@ -16,13 +16,14 @@
 // so z_k − d_k measures the object's position at t_1, with the forecast's error between t_1 and t_k,
 // of covariance C_k, added to its noise. That error is shared by later measurements (a random walk:
 // Cov(e_j, e_k) = C_min(j,k)); the comparison takes each measurement's as its own and independent.
-// Referred to the middle of the gathered ones (C_mid = (C_1 + C_n) / 2, 1 and n the first and last), each gets
-//     A_k = |C_k − C_mid|                   (C_mid − C_k before the middle, C_k − C_mid after it)
-// — the difference of two measurements on either side then has its exact covariance, of two on one
-// side more than its own: the comparison errs towards noise, never towards offsets, and the motion
-// model's errors cannot pass for registration error. Along one forecast the covariances are ordered
-// (C_j ⪯ C_k for j < k); where they are not (Q's online scale changed within the frame), |X| is the
-// matrix absolute value V |Λ| Vᵀ, positive semidefinite in any case.
+// Referred to the middle of the gathered ones (1 and n the first and last), each gets
+//     A_k = |s_k| (C_n − C_1) / 2,   s_k = 2 tr(C_k − C_1) / tr(C_n − C_1) − 1 ∈ [−1, 1]
+// — |C_k − C_mid| with C_mid = (C_1 + C_n) / 2 when the increments keep one shape, as Q's do along one
+// forecast (the speed term and a change of Q's online scale within the frame bend it a little), and
+// positive semidefinite in any case (C_n − C_1 is a sum of covariances). The difference of two
+// measurements on either side of the middle then has its exact covariance, of two on one side more
+// than its own: the comparison errs towards noise, never towards offsets, and the motion model's
+// errors cannot pass for registration error.
 //
 // Only measurements fused alone at their time are gathered (a measurement compared at its own time
 // with another view's is already counted there); a frame of a single time, as on synchronised views,
@@ -43,15 +44,13 @@ class FrameAlignment {
   void gather(const Measurement& measurement, double noise_scale);
 
   std::size_t size() const { return gathered_.size(); }
-  // The gathered measurements, each at z_k − d_k, with their noise scales and A_k (in gathering order).
-  struct Aligned {
-    std::vector<Measurement> measurements;
-    std::vector<double> noise_scales;
-    std::vector<Matrix3d> covariances;
-  };
-  Aligned aligned() const;
+  // The gathered measurements (at z_k − d_k, in gathering order; pointers into this frame, valid until
+  // it changes), their noise scales and A_k, written over the three lists.
+  void aligned(std::vector<const Measurement*>& measurements, std::vector<double>& noise_scales,
+               std::vector<Matrix3d>& covariances) const;
 
  private:
+  static constexpr std::size_t kTypicalViews = 8;  // room reserved at a frame's first measurement
   struct Gathered {
     Measurement measurement;  // z_k − d_k
     double noise_scale;

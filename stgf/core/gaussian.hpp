@@ -37,6 +37,9 @@ class Gaussian3 {
   const Matrix3d& covariance() const { return covariance_; }
   const Matrix3d& information() const { return information_; }
 
+  // The same Gaussian with its mean moved by `shift` (nothing to check again).
+  Gaussian3 moved_by(const Vector3d& shift) const { return Gaussian3(mean_ + shift, covariance_, information_); }
+
   // Squared Mahalanobis distance (p − mean)ᵀ covariance⁻¹ (p − mean).
   double mahalanobis_squared(const Vector3d& point) const;
 

@@ -359,11 +359,8 @@ void SceneFilter::close_frames(double time) {
     if (joint()) track.update(track.state().time, state_.joint.position(key.second));
     if (joint() && options_.adapt_registration_prior && track.frame_alignment().size() >= 2) {
       // The measurements fused alone within the frame, compared along the track's path.
-      const FrameAlignment::Aligned aligned = track.frame_alignment().aligned();
-      std::vector<const Measurement*> measurements;
-      measurements.reserve(aligned.measurements.size());
-      for (const Measurement& measurement : aligned.measurements) measurements.push_back(&measurement);
-      state_.joint.observe_differences(measurements, aligned.noise_scales, aligned.covariances);
+      track.frame_alignment().aligned(aligned_.measurements, aligned_.noise_scales, aligned_.covariances);
+      state_.joint.observe_differences(aligned_.measurements, aligned_.noise_scales, aligned_.covariances);
       compared = true;
     }
     track.close_frame(predictor_);

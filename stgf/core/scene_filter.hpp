@@ -293,6 +293,13 @@ class SceneFilter {
   double latest_time_;
   std::vector<MotionGraph> request_;
   std::vector<std::vector<ObjectTrack*>> request_tracks_;  // of request_'s objects (the state is not changed meanwhile)
+  // A closing frame's measurements, aligned (frame_alignment.hpp): lists kept for their room.
+  struct AlignedFrame {
+    std::vector<const Measurement*> measurements;
+    std::vector<double> noise_scales;
+    std::vector<Matrix3d> covariances;
+  };
+  AlignedFrame aligned_;
   std::vector<Result> results_;
   std::size_t late_measurements_ = 0;
   std::size_t rewinds_ = 0;
