@@ -88,10 +88,10 @@ cat >> "$doc" <<'NOTES'
 
 Not yet a model to ship (issue 11, item 4). Left out of training, mpl is scored worse by the
 model of the other two than by `wls` and `mmt` (0.0878 m against 0.0556), and cad with a covariance
-far too small (0.4498 m, below `mmt`'s 0.4632, but NEES 27); ethucy is now scored better than by
+far too small (0.4542 m, below `mmt`'s 0.4632, but NEES 23); ethucy is now scored better than by
 `wls` and `mmt`, and honestly (0.0951 m against 0.1032, NEES 2.9). Trained on all three, the model
 is within 17 % of each benchmark's own on mpl, 4 % on cad and 12 % on ethucy, but overconfident on
-cad (NEES 8.5). With Q calibrated at longer intervals (`stgf train`'s default since these were
+cad (NEES 7.6). With Q calibrated at longer intervals (`stgf train`'s default since these were
 regenerated) it lost on ethucy (0.0984 against 0.0886 m before): one curve of Q serves data of three
 rates, its reference interval is 0.25 s, and on the mixed validation split constant velocity
 predicts better than Φ from the second stride on (0.105 against 0.110 m at 0.5 s, in

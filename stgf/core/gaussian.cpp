@@ -29,6 +29,27 @@ std::optional<Matrix3d> inverse_by_cholesky(const Matrix3d& matrix) {
 
 }  // namespace
 
+namespace {
+
+// The checks of covariance_problem that need no eigenvalues: finite, symmetric, and a sufficient test
+// of a condition number below 1e12 — for C positive definite, λ_max ≤ tr C and
+// λ_min ≥ det C / (tr C / 2)² (the other two eigenvalues' product is at most ((tr C) / 2)²), so
+// tr³ ≤ 4 · 1e12 · det bounds it. Passed: the factor of the symmetric part, whose inverse is Λ.
+std::optional<Cholesky3> vouched_factor(const Matrix3d& covariance) {
+  if (!covariance.allFinite()) return std::nullopt;
+  const double scale = covariance.cwiseAbs().maxCoeff();
+  if (scale == 0.0 || (covariance - covariance.transpose()).cwiseAbs().maxCoeff() > kSymmetryTolerance * scale) {
+    return std::nullopt;
+  }
+  const Matrix3d symmetric = symmetrised(covariance);
+  const Cholesky3 cholesky(symmetric);
+  const double trace = symmetric.trace();
+  if (cholesky.ok() && trace * trace * trace <= 4.0 * kMaxConditionNumber * cholesky.determinant()) return cholesky;
+  return std::nullopt;
+}
+
+}  // namespace
+
 std::optional<std::string> covariance_problem(const Matrix3d& covariance) {
   if (!covariance.allFinite()) return "covariance has a NaN or infinite entry";
   const double scale = covariance.cwiseAbs().maxCoeff();
@@ -36,15 +57,8 @@ std::optional<std::string> covariance_problem(const Matrix3d& covariance) {
   if ((covariance - covariance.transpose()).cwiseAbs().maxCoeff() > kSymmetryTolerance * scale) {
     return "covariance is not symmetric";
   }
-  // A sufficient test first, without eigenvalues: for C positive definite, λ_max ≤ tr C and
-  // λ_min ≥ det C / (tr C / 2)² (the other two eigenvalues' product is at most ((tr C) / 2)²), so
-  // tr³ ≤ 4 · 1e12 · det bounds the condition number. Only what it cannot vouch for is examined below.
-  {
-    const Matrix3d symmetric = symmetrised(covariance);
-    const Cholesky3 cholesky(symmetric);
-    const double trace = symmetric.trace();
-    if (cholesky.ok() && trace * trace * trace <= 4.0 * kMaxConditionNumber * cholesky.determinant()) return std::nullopt;
-  }
+  // The sufficient test first; only what it cannot vouch for is examined below.
+  if (vouched_factor(covariance)) return std::nullopt;
   Eigen::SelfAdjointEigenSolver<Matrix3d> eigen;
   eigen.computeDirect(symmetrised(covariance), Eigen::EigenvaluesOnly);
   const double smallest = eigen.eigenvalues()(0);
@@ -67,6 +81,10 @@ std::optional<std::string> covariance_problem(const Matrix3d& covariance) {
 
 Gaussian3 Gaussian3::from_covariance(const Vector3d& mean, const Matrix3d& covariance) {
   if (!mean.allFinite()) throw std::invalid_argument("mean has a NaN or infinite entry");
+  // What passes the sufficient test keeps its factor: Λ from it, one factorisation instead of two.
+  if (const std::optional<Cholesky3> factor = vouched_factor(covariance)) {
+    return Gaussian3(mean, symmetrised(covariance), factor->inverse());
+  }
   if (auto problem = covariance_problem(covariance)) throw std::invalid_argument(*problem);
   const Matrix3d symmetric = symmetrised(covariance);
   const auto information = inverse_by_cholesky(symmetric);

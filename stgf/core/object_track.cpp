@@ -16,15 +16,6 @@ Vector3d ObjectTrack::last_velocity() const {
   return (last.estimate.mean() - before.estimate.mean()) / (last.time - before.time);
 }
 
-std::optional<double> ObjectTrack::frame_interval() const {
-  if (history_.size() < 2) return std::nullopt;
-  double interval = std::numeric_limits<double>::infinity();
-  for (std::size_t k = 1; k < history_.size(); ++k) {
-    interval = std::min(interval, history_[k].time - history_[k - 1].time);
-  }
-  return interval;
-}
-
 double ObjectTrack::unseen_limit(const MotionPredictor& predictor, double scene_frame_interval) const {
   const double horizon = predictor.coasting_horizon();
   if (!(horizon > predictor.prediction_horizon())) return horizon;  // no coasting Q to cross a frame with
@@ -81,6 +72,11 @@ void ObjectTrack::close_frame(const MotionPredictor& predictor) {
   history_.push_back(*state_);
   const auto limit = static_cast<std::size_t>(predictor.history_positions());
   while (history_.size() > limit) history_.pop_front();
+  if (history_.size() >= 2) {
+    double interval = std::numeric_limits<double>::infinity();
+    for (std::size_t k = 1; k < history_.size(); ++k) interval = std::min(interval, history_[k].time - history_[k - 1].time);
+    frame_interval_ = interval;
+  }
   forecast_.reset();
   frame_time_.reset();
   frame_alignment_ = FrameAlignment();

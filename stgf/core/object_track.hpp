@@ -96,7 +96,7 @@ class ObjectTrack {
   double unseen_limit(const MotionPredictor& predictor,
                       double scene_frame_interval = std::numeric_limits<double>::infinity()) const;
   // The shortest interval between two history positions; none with fewer than two.
-  std::optional<double> frame_interval() const;
+  std::optional<double> frame_interval() const { return frame_interval_; }
   const std::optional<MotionForecast>& forecast() const { return forecast_; }
   void set_forecast(const MotionForecast& forecast) { forecast_ = forecast; }
 
@@ -155,6 +155,7 @@ class ObjectTrack {
   std::optional<TrackPoint> state_;
   double first_time_ = 0.0;
   std::deque<TrackPoint> history_;  // oldest first
+  std::optional<double> frame_interval_;  // of history_, kept when it changes
   std::optional<MotionForecast> forecast_;
   std::optional<double> frame_time_;
   FrameAlignment frame_alignment_;

@@ -649,7 +649,7 @@ void SceneFilter::report(Event& event, std::size_t first, std::size_t end, const
   for (std::size_t k = first; k < end; ++k) {
     Row& row = event.rows[k];
     if (row.reported) continue;
-    if (prediction && !shared) shared = std::make_shared<const TrackPrediction>(*prediction);
+    if (options_.report_predictions && prediction && !shared) shared = std::make_shared<const TrackPrediction>(*prediction);
     results_.push_back(Result{row.id, estimate, shared, gated[k - first]});
     row.reported = true;
   }

@@ -116,6 +116,9 @@ struct FilterOptions {
   bool adapt_registration_prior = true;
   TrackMode tracks = TrackMode::kPerObject;
   double lag_window = 1.0;                  // s: how late a measurement may come and still count
+  // Each Result carries what its track predicted (false: none, for a caller that does not read
+  // them: one allocation fewer per object and time).
+  bool report_predictions = true;
   LatePolicy late = LatePolicy::kLeaveOut;  // what happens to one that comes later
   GateOptions gate;                         // the χ² gate and the views' noise scales (off)
 };

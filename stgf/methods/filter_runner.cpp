@@ -143,6 +143,7 @@ FilterRun run_spatiotemporal_graph_filter(const MotionPredictor& predictor, cons
   // Steps in time order leave nothing to go back for, but the gate's re-filtering of a view whose
   // noise was understated or whose offset jumped (scene_filter.hpp).
   if (!by_arrival && !options.gate.enabled) scene_options.lag_window = 0.0;
+  scene_options.report_predictions = keep_predictions;
   const std::vector<Scene> scenes = group_into_scenes(measurements);
   FilterRun run;
   // One vector of estimates, each row's own measurement until its estimate comes (a Gaussian3 has no
