@@ -27,10 +27,6 @@ std::optional<Matrix3d> inverse_by_cholesky(const Matrix3d& matrix) {
   return cholesky.inverse();
 }
 
-}  // namespace
-
-namespace {
-
 // The checks of covariance_problem that need no eigenvalues: finite, symmetric, and a sufficient test
 // of a condition number below 1e12 — for C positive definite, λ_max ≤ tr C and
 // λ_min ≥ det C / (tr C / 2)² (the other two eigenvalues' product is at most ((tr C) / 2)²), so

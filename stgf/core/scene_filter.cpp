@@ -534,7 +534,9 @@ void SceneFilter::process_joint(Event& event) {
       motion = track.motion_to(time, predictor_, coasting ? coasting_scale : scale, constant_velocity);
       const Gaussian3 state = state_.joint.position(object);
       state_.joint.predict(object, motion->displacement, motion->covariance);
-      if (track.has_frame()) track.frame_alignment().follow(motion->displacement, motion->covariance);
+      if (options_.adapt_registration_prior && track.has_frame()) {
+        track.frame_alignment().follow(motion->displacement, motion->covariance);  // gathered only then
+      }
       // The predicted position: p_i + d, Σ_ii + Q (what position() now gives, without recomputing it).
       prediction = TrackPrediction{
           Gaussian3::from_covariance(state.mean() + motion->displacement, state.covariance() + motion->covariance),
