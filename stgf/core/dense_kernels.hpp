@@ -11,8 +11,11 @@
 //                  l_{j:,j} = (a_{j:,j} − L_{j:,0:j} L_{j,0:j}ᵀ) / l_jj,   l_jj = √(a_jj − ‖L_{j,0:j}‖²)
 //                one matrix-vector product per column, which reads L by contiguous columns.
 //   substitute   X ← L⁻¹ X by columns of L: x_j /= l_jj, then x_{j+1:} −= l_{j+1:,j} x_j.
-//   rank-3       the lower triangle of M gets s · U Uᵀ for a c × 3 matrix U (s = ±1), or A Aᵀ − B Bᵀ,
-//                one pass over M.
+//   rank-3       the lower triangle of M gets s · U Uᵀ for a c × 3 matrix U (s = ±1), A Aᵀ − B Bᵀ or
+//                A Aᵀ + B Bᵀ, one pass over M.
+//   Gram         WᵀW for a c × N matrix W (N = 3, 6): one dot product per distinct entry (Eigen's
+//                product of a dynamic N × c by c × N matrix packs both for its blocked kernel first,
+//                which took longer).
 
 #include <Eigen/Dense>
 
@@ -96,6 +99,24 @@ void add_rank3_difference(Eigen::MatrixXd& lower, const Added& a, const Subtract
   const double* const terms[6] = {a.col(0).data(), a.col(1).data(), a.col(2).data(),
                                   b.col(0).data(), b.col(1).data(), b.col(2).data()};
   detail::add_rank_terms<6>(lower, terms, {1.0, 1.0, 1.0, -1.0, -1.0, -1.0});
+}
+
+// The lower triangle of M gets A Aᵀ + B Bᵀ (A, B: c × 3, contiguous columns), in one pass.
+template <class First, class Second>
+void add_rank3_sum(Eigen::MatrixXd& lower, const First& a, const Second& b) {
+  const double* const terms[6] = {a.col(0).data(), a.col(1).data(), a.col(2).data(),
+                                  b.col(0).data(), b.col(1).data(), b.col(2).data()};
+  detail::add_rank_terms<6>(lower, terms, {1.0, 1.0, 1.0, 1.0, 1.0, 1.0});
+}
+
+// WᵀW for W with N columns (symmetric: each distinct entry one dot product).
+template <int N, class Columns>
+Eigen::Matrix<double, N, N> gram(const Columns& w) {
+  Eigen::Matrix<double, N, N> result;
+  for (int a = 0; a < N; ++a) {
+    for (int b = 0; b <= a; ++b) result(a, b) = result(b, a) = w.col(a).dot(w.col(b));
+  }
+  return result;
 }
 
 // The lower triangle of M gets sign · U Uᵀ (U: c × 3, contiguous columns).

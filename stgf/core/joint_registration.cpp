@@ -174,8 +174,8 @@ JointRegistration::Innovation JointRegistration::innovation(const Measurement& m
   if (view != nullptr) {
     result.value -= h * offset_mean(*view);
     const Eigen::Matrix<double, Eigen::Dynamic, 3> whitened_rows =
-        current.whitened_offsets + whitened_selector(*view) * h.transpose();
-    result.covariance.noalias() += whitened_rows.transpose() * whitened_rows;
+        current.whitened_offsets + whitened_selector(*view).lazyProduct(h.transpose());
+    result.covariance += gram<3>(whitened_rows);
   } else {
     result.covariance += current.offsets_spread;
     if (!prior_.is_zero()) result.covariance += h * prior_covariance() * h.transpose();
@@ -323,10 +323,14 @@ void JointRegistration::fold_pending_terms() const {
   const Eigen::Map<const Eigen::MatrixXd> added(pending_added_.data(), size, added_columns);
   const Eigen::Map<const Eigen::MatrixXd> subtracted(pending_subtracted_.data(), size, subtracted_columns);
   if (added_columns < kBlockedColumns) {
-    // Added and subtracted terms in pairs, one pass over M for both, then the added ones left.
+    // Added and subtracted terms in pairs, one pass over M for both, then the added ones left, two
+    // at a time.
     Eigen::Index first = 0;
     for (; first < subtracted_columns; first += 3) {
       add_rank3_difference(offsets_information_, added.middleCols<3>(first), subtracted.middleCols<3>(first));
+    }
+    for (; first + 3 < added_columns; first += 6) {
+      add_rank3_sum(offsets_information_, added.middleCols<3>(first), added.middleCols<3>(first + 3));
     }
     for (; first < added_columns; first += 3) add_rank3(offsets_information_, added.middleCols<3>(first), 1.0);
   } else {
@@ -470,7 +474,7 @@ const JointRegistration::ObjectState& JointRegistration::whitened(const ObjectSt
   object.spread_version = version_;
   object.whitened_offsets = object.offsets.transpose();
   if (object.whitened_offsets.rows() > 0) forward_substitute(offsets_factor_, object.whitened_offsets);
-  object.offsets_spread = object.whitened_offsets.transpose() * object.whitened_offsets;
+  object.offsets_spread = gram<3>(object.whitened_offsets);
   return object;
 }
 
@@ -502,7 +506,7 @@ Matrix3d JointRegistration::offsets_covariance(std::span<const Measurement* cons
       covariance.noalias() += weighted * prior_covariance() * weighted.transpose();
     }
   }
-  covariance.noalias() += whitened.transpose() * whitened;
+  covariance += gram<3>(whitened);
   return symmetrised(covariance);
 }
 
@@ -542,8 +546,22 @@ std::vector<Gaussian3> JointRegistration::positions(std::span<const std::string_
     offsets_factor_.triangularView<Eigen::Lower>().solveInPlace(whitened);  // L⁻¹ Bᵀ
     for (std::size_t s = 0; s < stale.size(); ++s) {
       stale[s]->whitened_offsets = whitened.middleCols<3>(static_cast<Eigen::Index>(3 * s));
-      stale[s]->offsets_spread = stale[s]->whitened_offsets.transpose() * stale[s]->whitened_offsets;
+      stale[s]->offsets_spread = gram<3>(stale[s]->whitened_offsets);
       stale[s]->spread_version = version_;
+    }
+  } else if (size > 0) {
+    // Fewer: two objects per pass down L (each column is substituted exactly as alone).
+    Eigen::Matrix<double, Eigen::Dynamic, 6> pair(size, 6);
+    for (std::size_t s = 0; s + 1 < stale.size(); s += 2) {
+      pair.leftCols<3>() = stale[s]->offsets.transpose();
+      pair.rightCols<3>() = stale[s + 1]->offsets.transpose();
+      forward_substitute(offsets_factor_, pair);
+      for (std::size_t t = 0; t < 2; ++t) {
+        const ObjectState& state = *stale[s + t];
+        state.whitened_offsets = pair.middleCols<3>(static_cast<Eigen::Index>(3 * t));
+        state.offsets_spread = gram<3>(state.whitened_offsets);
+        state.spread_version = version_;
+      }
     }
   }
   std::vector<Gaussian3> result;
@@ -572,7 +590,7 @@ Eigen::Matrix<double, 6, 6> JointRegistration::offset_covariance(std::string_vie
   refresh();
   if (offsets_information_vector_.size() == 0) return Eigen::Matrix<double, 6, 6>::Zero();
   const Eigen::Matrix<double, Eigen::Dynamic, 6>& whitened = whitened_selector(*blocks);  // Y_u
-  return whitened.transpose() * whitened;
+  return gram<6>(whitened);
 }
 
 }  // namespace stgf
