@@ -184,6 +184,49 @@ JointRegistration::Innovation JointRegistration::innovation(const Measurement& m
   return result;
 }
 
+JointRegistration::Innovation JointRegistration::innovation(std::span<const Measurement* const> measurements,
+                                                            std::span<const double> noise_scales) const {
+  if (measurements.size() != noise_scales.size() || measurements.empty()) {
+    throw std::invalid_argument("JointRegistration::innovation: one noise scale per measurement, at least one");
+  }
+  if (measurements.size() == 1) return innovation(*measurements.front(), noise_scales.front());
+  const ObjectState& object = object_state(measurements.front()->object);
+  std::vector<Matrix3d>& weights = combined_weights_;  // R_k⁻¹, then W_k
+  weights.clear();
+  Matrix3d information = Matrix3d::Zero();
+  for (std::size_t k = 0; k < measurements.size(); ++k) {
+    if (measurements[k]->object != measurements.front()->object) throw std::logic_error("JointRegistration::innovation: measurements of several objects");
+    const Cholesky3 noise_factor(noise_scales[k] * measurements[k]->position.covariance());
+    if (!noise_factor.ok()) throw std::runtime_error("registration: a measurement's covariance is not positive definite");
+    information += weights.emplace_back(noise_factor.inverse());
+  }
+  const Cholesky3 information_factor(information);
+  if (!information_factor.ok()) throw std::runtime_error("registration: the measurements' total information is not positive definite");
+  const Matrix3d combined_noise = symmetrised(information_factor.inverse());  // R̄
+  refresh();
+  const ObjectState& current = whitened(object);
+  const Vector3d predicted = object.mean + object.offsets * offsets_mean_;
+  Innovation result{Vector3d::Zero(), object.covariance + combined_noise};
+  Eigen::Matrix<double, Eigen::Dynamic, 3> whitened_sum = current.whitened_offsets;  // V̄ = W_i + Σ_k Y_k H_kᵀ W_kᵀ (Σ W_k = I)
+  for (std::size_t k = 0; k < measurements.size(); ++k) {
+    const Measurement& measurement = *measurements[k];
+    const Matrix3d weight = combined_noise * weights[k];  // W_k
+    const Matrix36 h = offset_jacobian(measurement.position.covariance());
+    Vector3d value = measurement.position.mean() - predicted;
+    if (const ViewBlocks* view = view_blocks(measurement.view); view != nullptr) {
+      value -= h * offset_mean(*view);
+      whitened_sum.noalias() += whitened_selector(*view).lazyProduct(h.transpose() * weight.transpose());
+    } else if (!prior_.is_zero()) {
+      const Matrix36 moved = weight * h;
+      result.covariance.noalias() += moved * prior_covariance() * moved.transpose();
+    }
+    result.value.noalias() += weight * value;
+  }
+  result.covariance += gram<3>(whitened_sum);
+  result.covariance = symmetrised(result.covariance);
+  return result;
+}
+
 void JointRegistration::update(const Measurement& measurement, double noise_scale) {
   const Measurement* one = &measurement;
   update(std::span(&one, 1), std::span(&noise_scale, 1));

@@ -522,11 +522,10 @@ void SceneFilter::process_joint(Event& event) {
     }
     std::optional<TrackPrediction> prediction;
     std::optional<ObjectTrack::Motion> motion;
-    std::vector<JointRegistration::Innovation> innovations;  // against the prediction, when gated by it
     std::vector<double> distances;
-    // The first fused measurement of a frame teaches the scale of Q (§1.2), with its innovation against
-    // the prediction from two or more history positions: Φ's λ (or constant velocity's, §1.13), or the
-    // coasting λ when the track coasts.
+    // The measurements fused where a frame opens teach the scale of Q (§1.2), with their combined
+    // innovation against the prediction from two or more history positions: Φ's λ (or constant
+    // velocity's, §1.13), or the coasting λ when the track coasts.
     bool teaches_process_noise = false;
     bool coasting = false;
     if (!track.empty()) {
@@ -541,17 +540,11 @@ void SceneFilter::process_joint(Event& event) {
       prediction = TrackPrediction{
           Gaussian3::from_covariance(state.mean() + motion->displacement, state.covariance() + motion->covariance),
           state.covariance(), motion->process_noise, motion->interval, track.history().size()};
-      // Innovations against the prediction: every row's for the gate, else the first row's to teach Q.
+      // Every row's innovation against the prediction, for the gate.
       teaches_process_noise = !track.has_frame() && track.history().size() >= 2 && learns_from(coasting);
-      const bool gated = gate_.enabled() && gates_against_prediction(track);
-      if (gated || teaches_process_noise) {
+      if (gate_.enabled() && gates_against_prediction(track)) {
         for (const Row& row : rows) {
-          innovations.push_back(state_.joint.innovation(row.measurement, noise_scale(row.measurement.view)));
-          if (!gated) break;
-        }
-      }
-      if (gated) {
-        for (const JointRegistration::Innovation& innovation : innovations) {
+          const JointRegistration::Innovation innovation = state_.joint.innovation(row.measurement, noise_scale(row.measurement.view));
           distances.push_back(distance_squared(innovation.value, innovation.covariance));
         }
       }
@@ -573,9 +566,17 @@ void SceneFilter::process_joint(Event& event) {
       prediction.reset();
     }
     if (teaches_process_noise && !track.empty()) {  // (a restart above has emptied it)
-      const auto passed = std::find(decision.passes.begin(), decision.passes.end(), true);
-      if (passed != decision.passes.end()) {
-        const JointRegistration::Innovation& innovation = innovations[static_cast<std::size_t>(passed - decision.passes.begin())];
+      // The combined innovation of the measurements that passed (of the first, when they conflict:
+      // one of them is wrong).
+      std::vector<const Measurement*> passed;
+      std::vector<double> passed_scales;
+      for (std::size_t k = 0; k < rows.size(); ++k) {
+        if (!decision.passes[k] || (decision.conflicting && !passed.empty())) continue;
+        passed.push_back(&rows[k].measurement);
+        passed_scales.push_back(noise_scale(rows[k].measurement.view));
+      }
+      if (!passed.empty()) {
+        const JointRegistration::Innovation innovation = state_.joint.innovation(passed, passed_scales);
         learn_sample(coasting, constant_velocity, innovation.value, innovation.covariance - motion->covariance,
                      motion->process_noise, motion->displacement - track.displacement_to(time, !constant_velocity));
       }

@@ -68,6 +68,23 @@ class DenseJointRegistration {
     const Eigen::MatrixXd h = observation(m, u);
     return {m.position.mean() - h * mean_, h * covariance_ * h.transpose() + noise_scale * m.position.covariance()};
   }
+  // Σ_k W_k ν_k and its covariance, the measurements' innovations stacked: W (H Σ Hᵀ + R) Wᵀ.
+  JointRegistration::Innovation combined_innovation(const std::vector<const Measurement*>& measurements,
+                                                    const std::vector<double>& noise_scales,
+                                                    const std::vector<Matrix3d>& weights) {
+    const auto k = static_cast<Eigen::Index>(measurements.size());
+    for (const Measurement* m : measurements) add_view(m->view);
+    Eigen::MatrixXd h(3 * k, mean_.size()), noise = Eigen::MatrixXd::Zero(3 * k, 3 * k), w(3, 3 * k);
+    Eigen::VectorXd z(3 * k);
+    for (Eigen::Index j = 0; j < k; ++j) {
+      const Measurement& m = *measurements[static_cast<std::size_t>(j)];
+      h.middleRows<3>(3 * j) = observation(m, views_.at(m.view));
+      noise.block<3, 3>(3 * j, 3 * j) = noise_scales[static_cast<std::size_t>(j)] * m.position.covariance();
+      w.middleCols<3>(3 * j) = weights[static_cast<std::size_t>(j)];
+      z.segment<3>(3 * j) = m.position.mean();
+    }
+    return {w * (z - h * mean_), w * (h * covariance_ * h.transpose() + noise) * w.transpose()};
+  }
   void update(const Measurement& m, double noise_scale) {
     const Eigen::Index u = add_view(m.view);
     const Eigen::MatrixXd h = observation(m, u);
@@ -205,6 +222,30 @@ void run_scenario(const RegistrationPrior& prior, std::uint64_t seed, int object
         dense.update(m, scale);
       }
       if (together) {
+        if (batch.size() >= 2) {
+          // The combined innovation, with the information weights W_k = (Σ_j R_j⁻¹)⁻¹ R_k⁻¹ (and, from
+          // step 20, with a view never seen among them).
+          std::vector<const Measurement*> combined;
+          std::vector<double> combined_scales = scales;
+          for (const Measurement& m : batch) combined.push_back(&m);
+          const Measurement unseen = measurement(object, "never-seen-" + std::to_string(step));
+          if (step >= 20) {
+            combined.push_back(&unseen);
+            combined_scales.push_back(2.0);
+          }
+          Matrix3d information = Matrix3d::Zero();
+          for (std::size_t k = 0; k < combined.size(); ++k) {
+            information += (combined_scales[k] * combined[k]->position.covariance()).inverse();
+          }
+          std::vector<Matrix3d> weights;
+          for (std::size_t k = 0; k < combined.size(); ++k) {
+            weights.push_back(information.inverse() * (combined_scales[k] * combined[k]->position.covariance()).inverse());
+          }
+          const JointRegistration::Innovation actual = factored.innovation(combined, combined_scales);
+          const JointRegistration::Innovation expected = dense.combined_innovation(combined, combined_scales, weights);
+          EXPECT_LE((actual.value - expected.value).norm(), 1e-9) << "combined innovation at step " << step;
+          EXPECT_LE((actual.covariance - expected.covariance).norm(), 1e-9) << "combined innovation at step " << step;
+        }
         std::vector<const Measurement*> pointers;
         for (std::size_t k = 0; k < batch.size(); ++k) {
           pointers.push_back(&batch[k]);

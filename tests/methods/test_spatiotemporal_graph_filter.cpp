@@ -216,6 +216,45 @@ TEST(SpatiotemporalGraphFilter, AdaptsQWhenPredictionsAreWorseThanItSays) {
   EXPECT_GT(nees_fixed, 50.0);
 }
 
+// Twelve views whose noise (σ = 0.3 m across, 0.01 m up) is far larger than the prediction's error:
+// one view's innovation hardly shows that Q is too small, the views' combined innovation (noise
+// R/12) does (design §1.2). A pedestrian-like turn (1.5 m/s on a 2 m circle) every 0.1 s for 20 s,
+// predicted by constant velocity with a Q far below what the turn needs, the views' offsets
+// estimated jointly with the positions: λ grows, also up, where nothing moves but the velocity read
+// off the noisy positions errs by more than Q says, and the estimates stay consistent (mean NEES
+// from 2 s on; with the first view's innovation alone, λ stayed 1 up and NEES was 318).
+TEST(SpatiotemporalGraphFilter, LearnsQFromTheViewsCombinedInnovation) {
+  const ConstantVelocityPredictor predictor(1e-5, 1.0);
+  FilterOptions options;
+  options.registration = RegistrationPrior{Vector3d(0.01, 0.01, 0.0), 0.1};
+  options.gate.enabled = false;
+  options.motion_fallback = MotionFallback::kOff;
+  SpatiotemporalGraphFilter filter(predictor, options);
+  std::mt19937_64 random(5);
+  std::normal_distribution<double> normal;
+  const Matrix3d r = Vector3d(0.09, 0.09, 1e-4).asDiagonal();
+  double nees = 0.0;
+  int count = 0;
+  for (int k = 0; k < 200; ++k) {
+    const double t = 0.1 * k;
+    const Vector3d truth(2.0 * std::cos(0.75 * t), 2.0 * std::sin(0.75 * t), 0.0);
+    std::vector<Measurement> rows;
+    for (int view = 0; view < 12; ++view) {
+      const Vector3d z = truth + Vector3d(0.3 * normal(random), 0.3 * normal(random), 0.01 * normal(random));
+      rows.push_back(measurement(t, "v" + std::to_string(view), "o", z, r));
+    }
+    const Gaussian3 estimate = step(filter, t, rows)[0];
+    if (k >= 20) {
+      nees += estimate.mahalanobis_squared(truth);
+      ++count;
+    }
+  }
+  EXPECT_GT(filter.process_noise_scales().x(), 10.0);
+  EXPECT_GT(filter.process_noise_scales().y(), 10.0);
+  EXPECT_GT(filter.process_noise_scales().z(), 4.0);
+  EXPECT_LT(nees / count, 4.5);
+}
+
 // Constant velocity that hands every track with two history positions to coasting (its widest history
 // spacing is below the step): Φ's Q and the coasting Q are both far too small.
 class HandsEveryHistoryToCoastingPredictor final : public testing::ForwardingPredictor {
