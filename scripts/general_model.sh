@@ -87,16 +87,15 @@ cat >> "$doc" <<'NOTES'
 ## Reading the numbers
 
 Not yet a model to ship (issue 11, item 4). Left out of training, mpl is scored worse by the
-model of the other two than by `wls` and `mmt` (0.0878 m against 0.0556), and cad with a covariance
-far too small (0.4542 m, below `mmt`'s 0.4632, but NEES 23); ethucy is now scored better than by
-`wls` and `mmt`, and honestly (0.0951 m against 0.1032, NEES 2.9). Trained on all three, the model
-is within 17 % of each benchmark's own on mpl, 4 % on cad and 12 % on ethucy, but overconfident on
-cad (NEES 7.6). With Q calibrated at longer intervals (`stgf train`'s default since these were
-regenerated) it lost on ethucy (0.0984 against 0.0886 m before): one curve of Q serves data of three
-rates, its reference interval is 0.25 s, and on the mixed validation split constant velocity
-predicts better than Φ from the second stride on (0.105 against 0.110 m at 0.5 s, in
-`all-train.log`), so the model hands histories spaced wider than 0.35 s, all of ethucy's (0.4 s), to
-constant velocity. What the table of calibrations shows is why one model does not fit all:
+model of the other two than by `wls` and `mmt` (0.0873 m against 0.0556), and cad with a covariance
+far too small (0.4481 m, below `mmt`'s 0.4632, but NEES 23); ethucy is scored better than by
+`wls` and `mmt`, and honestly (0.0946 m against 0.1032, NEES 2.8). Trained on all three, the model
+is within 20 % of each benchmark's own on mpl, 4 % on cad and 9 % on ethucy, but overconfident on
+cad (NEES 7.7). One curve of Q serves data of three rates (its reference interval is mpl's 0.143 s),
+and on the mixed validation split constant velocity predicts as well as Φ from the second stride on
+(0.0765 against 0.0766 m at 0.29 s, in `all-train.log`), so the model hands ethucy's histories
+(0.4 s apart) to constant velocity. What the table of calibrations shows is why one model does not
+fit all:
 
 - **Q is one matrix for every kind of motion.** Per 0.1 s, the pedestrians' own Q is about
   4·10⁻⁴ m² per axis (mpl and ethucy alike), the vehicles' 0.1 m²: 300 times more. A model
@@ -109,7 +108,7 @@ constant velocity. What the table of calibrations shows is why one model does no
   uncertainty, not one matrix, is the next step.
 - **The registration prior is one shape for every sensor.** The cameras' offsets are a few
   centimetres, the vehicles' GPS errors 0.3 m: together 0.18–0.2 m, which the per-scene scale κ
-  brings down on mpl (median 0.87, not far enough) and up on cad (11.3).
+  brings down on mpl (median 0.87, not far enough) and up on cad (8.5).
 - **Φ reads velocities in units of the training data's typical speed**, one for all (design §1.1):
   with vehicles in the training data it is 3.0–3.9 m/s, and pedestrians (1.0–1.1 m/s alone) move
   at a third of it or less. Its horizon, twice the longest interval of any of the data (1.2 s, from

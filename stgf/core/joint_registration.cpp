@@ -207,7 +207,11 @@ JointRegistration::Innovation JointRegistration::innovation(std::span<const Meas
   const ObjectState& current = whitened(object);
   const Vector3d predicted = object.mean + object.offsets * offsets_mean_;
   Innovation result{Vector3d::Zero(), object.covariance + combined_noise};
-  Eigen::Matrix<double, Eigen::Dynamic, 3> whitened_sum = current.whitened_offsets;  // V̄ = W_i + Σ_k Y_k H_kᵀ W_kᵀ (Σ W_k = I)
+  // V̄ = W_i + L⁻¹ U with U = Σ_k E_kᵀ H_kᵀ W_kᵀ (Σ_k W_k = I): each measurement's term on its view's
+  // blocks, then one substitution from the first block any of them touches.
+  Eigen::Matrix<double, Eigen::Dynamic, 3>& summed = combined_selector_;
+  summed.setZero(offsets_mean_.size(), 3);
+  Eigen::Index first = summed.rows();
   for (std::size_t k = 0; k < measurements.size(); ++k) {
     const Measurement& measurement = *measurements[k];
     const Matrix3d weight = combined_noise * weights[k];  // W_k
@@ -215,14 +219,20 @@ JointRegistration::Innovation JointRegistration::innovation(std::span<const Meas
     Vector3d value = measurement.position.mean() - predicted;
     if (const ViewBlocks* view = view_blocks(measurement.view); view != nullptr) {
       value -= h * offset_mean(*view);
-      whitened_sum.noalias() += whitened_selector(*view).lazyProduct(h.transpose() * weight.transpose());
+      const Eigen::Matrix<double, 6, 3> term = h.transpose() * weight.transpose();
+      for (const OffsetBlock& block : view->blocks) {
+        summed.middleRows(block.start, block.size()).noalias() += block.basis.transpose() * term;
+        first = std::min(first, block.start);
+      }
     } else if (!prior_.is_zero()) {
       const Matrix36 moved = weight * h;
       result.covariance.noalias() += moved * prior_covariance() * moved.transpose();
     }
     result.value.noalias() += weight * value;
   }
-  result.covariance += gram<3>(whitened_sum);
+  if (first < summed.rows()) forward_substitute(offsets_factor_, summed, first);
+  summed += current.whitened_offsets;
+  result.covariance += gram<3>(summed);
   result.covariance = symmetrised(result.covariance);
   return result;
 }

@@ -106,9 +106,11 @@ class JointRegistration {
   // The combined innovation of several measurements of one known object at one time: ν̄ = Σ_k W_k ν_k
   // with the information weights W_k = R̄ R_k⁻¹, R̄ = (Σ_k R_k⁻¹)⁻¹ (R_k = μ_k R), and, since
   // Cov(ν_k, ν_l) = P_i + C_k Σ_β C_lᵀ + δ_kl R_k (C_k = B_i + H_k E_k, as for one),
-  //     S̄ = P_i + V̄ᵀV̄ + R̄ (+ W_k H_k (κΣ₀) H_kᵀ W_kᵀ per view not yet seen),  V̄ = Σ_k L⁻¹C_kᵀ W_kᵀ:
-  // O(kc). What the object's prediction is tested against when its views agree (R̄ ≪ R), so that an
-  // understated Q shows where one view's noise would hide it. One measurement: innovation() itself.
+  //     S̄ = P_i + V̄ᵀV̄ + R̄ (+ W_k H_k (κΣ₀) H_kᵀ W_kᵀ per view not yet seen),  V̄ = Σ_k L⁻¹C_kᵀ W_kᵀ
+  //     = W_i + L⁻¹ Σ_k E_kᵀ H_kᵀ W_kᵀ:
+  // O(kc + c²), one substitution however many views. What the object's prediction is tested against
+  // when its views agree (R̄ ≪ R), so that an understated Q shows where one view's noise would hide
+  // it. One measurement: innovation() itself.
   Innovation innovation(std::span<const Measurement* const> measurements, std::span<const double> noise_scales) const;
   // The Kalman update with measurements of one known object (any views, at one time: nothing is
   // predicted between them), each with its noise scale; adds the views that are new. Exactly the
@@ -235,7 +237,9 @@ class JointRegistration {
     Matrix3d noise_inverse;
   };
   std::vector<UpdateTerm> update_terms_;
-  mutable std::vector<Matrix3d> combined_weights_;  // the combined innovation's work space
+  // The combined innovation's work space: R_k⁻¹ then W_k, and U then V̄.
+  mutable std::vector<Matrix3d> combined_weights_;
+  mutable Eigen::Matrix<double, Eigen::Dynamic, 3> combined_selector_;
   Eigen::VectorXd offsets_information_vector_;  // m
   // Read through refresh(): the factor L of M (its lower triangle; dense_kernels.hpp) and β̂, for the
   // M they were made from.

@@ -5,7 +5,9 @@
 // model's predictions can be much worse than that Q says, and a filter that trusts them drifts away
 // from its measurements with a covariance that no longer means anything. The innovations tell:
 //     ν = z − x ~ N(0, A + D Q D),   A = P̂_last + R (what the filter knows),  D = diag(√λ_x, √λ_y, √λ_z),
-// with λ = 1 when Q is right. Each world axis has its own λ (a model trained on people walking on a
+// with λ = 1 when Q is right (the filter gives it, per object where its frame opens, the combined
+// innovation of all the views that measured it then, with their combined noise R̄ in A: design
+// §1.2). Each world axis has its own λ (a model trained on people walking on a
 // floor has almost no vertical Q, and data with vertical noise or motion need a larger one there
 // only), estimated from that axis of the innovations seen so far, by its posterior on a fixed grid of
 // log₂ λ ∈ [0, 20] in steps of 1/2 under the wide prior ln λ ~ N(0, 3²) truncated to λ ≥ 1 (on the
