@@ -193,7 +193,10 @@ class Filter {
     return estimates_to_dict(estimates);
   }
 
-  double registration_prior_scale() const { return filter_->registration_prior_scale(); }
+  std::pair<double, double> registration_prior_scales() const {
+    const RegistrationPriorScales scales = filter_->registration_prior_scales();
+    return {scales.translation, scales.noise_ratio};
+  }
 
   py::array registration_offset(const std::string& view) const {
     const Eigen::Matrix<double, 6, 1> offset = filter_->registration_offset(view);
@@ -448,7 +451,8 @@ PYBIND11_MODULE(_stgf, m) {
            py::arg("config") = py::none(), py::arg("process_noise") = 0.5, py::arg("typical_speed") = 1.4)
       .def("fuse", &Filter::fuse, py::arg("time"), py::arg("view"), py::arg("object"), py::arg("z"), py::arg("R"))
       .def("registration_offset", &Filter::registration_offset, py::arg("view"))
-      .def_property_readonly("registration_prior_scale", &Filter::registration_prior_scale)
+      .def_property_readonly("registration_prior_scales", &Filter::registration_prior_scales,
+                             "(κ_t, κ_n): the registration prior's learned scales on the translation and on the offset in units of the noise (1 until learned)")
       .def_property_readonly("late_measurements", &Filter::late_measurements)
       .def_property_readonly("rewinds", &Filter::rewinds)
       .def_property_readonly("refilters", &Filter::refilters)

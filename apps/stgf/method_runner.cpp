@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <vector>
 
+#include <fmt/format.h>
 #include <spdlog/spdlog.h>
 
 #include "gating_log.hpp"
@@ -12,17 +13,24 @@
 namespace stgf::cli {
 namespace {
 
-// κ̂ over the scenes (registration_prior_scale.hpp): how far the views' offsets were from the size the
-// model's calibration expects.
-void log_registration_prior_scales(const std::string& method, std::vector<double> scales, std::size_t without) {
-  if (!scales.empty()) {
-    std::sort(scales.begin(), scales.end());
-    const auto quantile = [&scales](double q) {
-      return scales[static_cast<std::size_t>(q * static_cast<double>(scales.size() - 1) + 0.5)];
+// κ̂_t and κ̂_n over the scenes (registration_prior_scale.hpp): how far the views' offsets were from the
+// size the model's calibration expects.
+void log_registration_prior_scales(const std::string& method, const std::vector<RegistrationPriorScales>& learned,
+                                   std::size_t without) {
+  if (!learned.empty()) {
+    std::vector<double> translation, noise_ratio;
+    for (const RegistrationPriorScales& scales : learned) {
+      translation.push_back(scales.translation);
+      noise_ratio.push_back(scales.noise_ratio);
+    }
+    const auto quantiles = [](std::vector<double>& values) {
+      std::sort(values.begin(), values.end());
+      const auto at = [&values](double q) { return values[static_cast<std::size_t>(q * static_cast<double>(values.size() - 1) + 0.5)]; };
+      return fmt::format("median {:.2f} (10-90 %: {:.2f}-{:.2f})", at(0.5), at(0.1), at(0.9));
     };
-    spdlog::info("{}: registration prior scaled per scene from the views' disagreements: κ median {:.2f} (10-90 %: "
-                 "{:.2f}-{:.2f}) over {} scene(s); the offsets' σ is √κ times the model's calibration",
-                 method, quantile(0.5), quantile(0.1), quantile(0.9), scales.size());
+    spdlog::info("{}: registration prior scaled per scene from the views' disagreements over {} scene(s): translation "
+                 "κ_t {}, offset in units of the noise κ_n {}; the offsets' σ is √κ times the model's calibration",
+                 method, learned.size(), quantiles(translation), quantiles(noise_ratio));
   }
   if (without > 0) {
     spdlog::info("{}: {} scene(s) kept the registration prior as calibrated: their views seldom measured an object at "

@@ -100,8 +100,9 @@ class TestFilter(unittest.TestCase):
             self.assertEqual(stgf.Filter(config=config).motion, "constant-velocity")
 
     def test_registration_prior_scales_to_the_views_offsets(self):
-        # Six views whose offsets are five times the prior's σ (0.05 m): the prior's scale κ, learned
-        # from their disagreements, comes out near 25; with adaptation off it stays 1.
+        # Six views whose offsets are five times the prior's σ (0.05 m): the prior's scale κ_t, learned
+        # from their disagreements, comes out near 25; with adaptation off it stays 1. The prior has no
+        # offset in units of the noise (α = 0), so κ_n is κ_t.
         rng = np.random.default_rng(4)
         offsets = 0.25 * rng.standard_normal((6, 3))
         offsets[:, 2] = 0.0
@@ -122,12 +123,13 @@ class TestFilter(unittest.TestCase):
                     file.write("ours:\n  registration_translation_sigma_m: [0.05, 0.05, 0.0]\n"
                                f"  registration_noise_ratio: 0.0\n  adapt_registration_prior: {adapt}\n")
                 f = stgf.Filter(config=config)
-            self.assertEqual(f.registration_prior_scale, 1.0)
+            self.assertEqual(f.registration_prior_scales, (1.0, 1.0))
             f.fuse(time, view, obj, np.array(z), R)
-            scales[adapt] = f.registration_prior_scale
-        self.assertGreater(scales["true"], 8.0)
-        self.assertLess(scales["true"], 80.0)
-        self.assertEqual(scales["false"], 1.0)
+            scales[adapt] = f.registration_prior_scales
+        self.assertGreater(scales["true"][0], 8.0)
+        self.assertLess(scales["true"][0], 80.0)
+        self.assertEqual(scales["true"][1], scales["true"][0])
+        self.assertEqual(scales["false"], (1.0, 1.0))
 
     def test_bad_arrays_raise_value_error_naming_the_row(self):
         f = stgf.Filter()

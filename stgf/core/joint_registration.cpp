@@ -64,8 +64,7 @@ const JointRegistration::ViewBlocks* JointRegistration::view_blocks(std::string_
 }
 
 void JointRegistration::add_block(ViewBlocks& view, const Eigen::Matrix<double, 6, Eigen::Dynamic>& directions,
-                                  const Eigen::MatrixXd& covariance, bool scaled) {
-  fold_pending_terms();  // their columns have β's present size
+                                  const Eigen::MatrixXd& covariance) {
   // covariance = U diag(λ) Uᵀ; the block holds the coordinates along the eigenvectors with λ > 0.
   const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eigen(covariance);
   const Eigen::VectorXd& values = eigen.eigenvalues();
@@ -74,10 +73,37 @@ void JointRegistration::add_block(ViewBlocks& view, const Eigen::Matrix<double, 
   for (Eigen::Index k = 0; k < values.size(); ++k) {
     if (values(k) > floor && values(k) > 0.0) kept.push_back(k);
   }
-  const auto size = static_cast<Eigen::Index>(kept.size());
+  Eigen::Matrix<double, 6, Eigen::Dynamic> basis(6, static_cast<Eigen::Index>(kept.size()));
+  std::vector<double> information;
+  for (std::size_t k = 0; k < kept.size(); ++k) {
+    basis.col(static_cast<Eigen::Index>(k)) = directions * eigen.eigenvectors().col(kept[k]);
+    information.push_back(1.0 / values(kept[k]));
+  }
+  append_block(view, basis, information, std::vector(kept.size(), RegistrationPriorScale::Group::kFixed));
+}
+
+void JointRegistration::add_own_block(ViewBlocks& view) {
+  Eigen::Matrix<double, 6, Eigen::Dynamic> basis(6, 0);
+  std::vector<double> information;
+  std::vector<RegistrationPriorScale::Group> groups;
+  for (int j = 0; j < 6; ++j) {
+    const double variance = prior_covariance_(j, j);
+    if (!(variance > 0.0)) continue;
+    basis.conservativeResize(Eigen::NoChange, basis.cols() + 1);
+    basis.rightCols<1>() = Eigen::Matrix<double, 6, 1>::Unit(j);
+    information.push_back(1.0 / variance);
+    groups.push_back(j < 3 ? RegistrationPriorScale::Group::kTranslation : RegistrationPriorScale::Group::kNoiseRatio);
+  }
+  append_block(view, basis, information, groups);
+}
+
+void JointRegistration::append_block(ViewBlocks& view, const Eigen::Matrix<double, 6, Eigen::Dynamic>& basis,
+                                     const std::vector<double>& information,
+                                     const std::vector<RegistrationPriorScale::Group>& groups) {
+  const Eigen::Index size = basis.cols();
   if (size == 0) return;
-  Eigen::Matrix<double, 6, Eigen::Dynamic> basis(6, size);
-  // Zero mean (m unchanged there), information 1/λ along each kept direction, independent of the rest.
+  fold_pending_terms();  // their columns have β's present size
+  // Zero mean (m unchanged there), the given information along each coordinate, independent of the rest.
   const Eigen::Index start = offsets_information_vector_.size();
   offsets_information_vector_.conservativeResize(start + size);
   offsets_information_vector_.tail(size).setZero();
@@ -85,11 +111,10 @@ void JointRegistration::add_block(ViewBlocks& view, const Eigen::Matrix<double, 
   offsets_information_.rightCols(size).setZero();
   offsets_information_.bottomRows(size).setZero();
   for (Eigen::Index k = 0; k < size; ++k) {
-    basis.col(k) = directions * eigen.eigenvectors().col(kept[k]);
-    // A view's own block has the prior κ Σ₀: information 1/(κ λ) (registration_prior_scale.hpp).
-    const double information = 1.0 / values(kept[k]);
-    offsets_information_(start + k, start + k) = scaled ? information / prior_scale_.scale() : information;
-    prior_scale_.add_coordinate(information, scaled);
+    const auto j = static_cast<std::size_t>(k);
+    // A view's own coordinate has the prior κ λ: information 1/(κ λ) (registration_prior_scale.hpp).
+    offsets_information_(start + k, start + k) = information[j] / prior_scale_.scale(groups[j]);
+    prior_scale_.add_coordinate(information[j], groups[j]);
   }
   ++version_;
   for (auto& [name, object] : objects_) {
@@ -98,14 +123,14 @@ void JointRegistration::add_block(ViewBlocks& view, const Eigen::Matrix<double, 
   }
   Eigen::Matrix<double, 6, 6> padded = Eigen::Matrix<double, 6, 6>::Zero();
   padded.leftCols(size) = basis;
-  view.blocks.push_back({start, std::move(basis), padded});
+  view.blocks.push_back({start, basis, padded});
 }
 
 const JointRegistration::ViewBlocks* JointRegistration::add_view(std::string_view view) {
   if (prior_.is_zero()) return nullptr;
   if (const ViewBlocks* known = view_blocks(view)) return known;
   ViewBlocks& blocks = views_.emplace(std::string(view), ViewBlocks{}).first->second;
-  add_block(blocks, Eigen::Matrix<double, 6, 6>::Identity(), prior_covariance_, /*scaled=*/true);
+  add_own_block(blocks);
   return &blocks;
 }
 
@@ -157,7 +182,7 @@ void JointRegistration::release_offset(std::string_view view, const Matrix3d& co
   if (found == views_.end()) return;
   Eigen::Matrix<double, 6, 3> translation = Eigen::Matrix<double, 6, 3>::Zero();
   translation.topRows<3>().setIdentity();
-  add_block(found->second, translation, symmetrised(covariance), /*scaled=*/false);
+  add_block(found->second, translation, symmetrised(covariance));
 }
 
 JointRegistration::Innovation JointRegistration::innovation(const Measurement& measurement, double noise_scale) const {
@@ -490,20 +515,30 @@ void JointRegistration::observe_differences(std::span<const Measurement* const> 
 }
 
 bool JointRegistration::adapt_prior_scale() {
-  const double before = prior_scale_.scale();
+  using Group = RegistrationPriorScale::Group;
+  const RegistrationPriorScales before = prior_scale_.scales();
   if (!prior_scale_.update()) return false;
   // M = Λ₀/κ + the data's information: only the prior term changes.
-  const double change = 1.0 / prior_scale_.scale() - 1.0 / before;
+  const RegistrationPriorScales after = prior_scale_.scales();
+  const double translation_change = 1.0 / after.translation - 1.0 / before.translation;
+  const double noise_ratio_change = 1.0 / after.noise_ratio - 1.0 / before.noise_ratio;
   for (std::size_t j = 0; j < prior_scale_.coordinates(); ++j) {
-    if (!prior_scale_.scaled(j)) continue;
+    const Group group = prior_scale_.group(j);
+    if (group == Group::kFixed) continue;
     const auto index = static_cast<Eigen::Index>(j);
+    const double change = group == Group::kTranslation ? translation_change : noise_ratio_change;
     offsets_information_(index, index) += change * prior_scale_.prior_information(j);
   }
   ++version_;
   return true;
 }
 
-Eigen::Matrix<double, 6, 6> JointRegistration::prior_covariance() const { return prior_scale_.scale() * prior_covariance_; }
+Eigen::Matrix<double, 6, 6> JointRegistration::prior_covariance() const {
+  Eigen::Matrix<double, 6, 6> covariance = prior_covariance_;
+  covariance.topRows<3>() *= prior_scale_.scale(RegistrationPriorScale::Group::kTranslation);
+  covariance.bottomRows<3>() *= prior_scale_.scale(RegistrationPriorScale::Group::kNoiseRatio);
+  return covariance;  // diagonal
+}
 
 void JointRegistration::refresh() const {
   if (factored_version_ == version_) return;

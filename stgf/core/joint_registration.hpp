@@ -129,9 +129,10 @@ class JointRegistration {
   void observe_differences(std::span<const Measurement* const> measurements, std::span<const double> noise_scales,
                            std::span<const Matrix3d> alignment_covariances = {});
   bool adapt_prior_scale();
-  double prior_scale() const { return prior_scale_.scale(); }
+  RegistrationPriorScales prior_scales() const { return prior_scale_.scales(); }
   bool prior_scale_estimated() const { return prior_scale_.estimated(); }  // else κ = 1: too little evidence
-  // κ Σ₀: the prior of a view not yet seen.
+  // Σ₀ with its translation block scaled by κ_t and its noise-ratio block by κ_n: the prior of a view
+  // not yet seen.
   Eigen::Matrix<double, 6, 6> prior_covariance() const;
 
   Gaussian3 position(std::string_view object) const;  // the marginal of p_i
@@ -193,10 +194,15 @@ class JointRegistration {
   const ViewBlocks* add_view(std::string_view view);  // none for a zero prior
   const ViewBlocks* view_blocks(std::string_view view) const;  // none when unknown
   // Appends an independent block for `covariance`'s nonzero directions (eigenvectors, as columns of
-  // `directions` mapped by it), if any.
-  // `scaled`: a view's own block, whose prior is κ Σ₀ (else a release's, fixed).
+  // `directions` mapped by it), if any, whose prior is fixed (a release's).
   void add_block(ViewBlocks& view, const Eigen::Matrix<double, 6, Eigen::Dynamic>& directions,
-                 const Eigen::MatrixXd& covariance, bool scaled);
+                 const Eigen::MatrixXd& covariance);
+  // Appends a view's own block: the coordinates of (t, δ) with a nonzero prior variance in Σ₀ (which is
+  // diagonal), each scaled by its group's κ.
+  void add_own_block(ViewBlocks& view);
+  // β grows by a block with these columns of `basis` and this prior information per coordinate.
+  void append_block(ViewBlocks& view, const Eigen::Matrix<double, 6, Eigen::Dynamic>& basis,
+                    const std::vector<double>& information, const std::vector<RegistrationPriorScale::Group>& groups);
   const ObjectState& object_state(std::string_view object) const;
   // C = B_i + H_u E_u: how a measurement of object i by view u (none: a view not in β) depends on β.
   Eigen::Matrix<double, 3, Eigen::Dynamic> measurement_offsets(const ObjectState& object, const ViewBlocks* view,

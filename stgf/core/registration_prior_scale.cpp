@@ -13,6 +13,9 @@ namespace stgf {
 namespace {
 
 double grid_log2_scale(int index) { return 0.25 * index - 10.0; }
+double grid_log2_ratio(int index) {
+  return RegistrationPriorScale::kRatioStep * (index - RegistrationPriorScale::kEqualRatio);
+}
 
 // ½ gᵀ (I/κ + T)⁻¹ g − ½ log det(I + κ T) for the symmetric tridiagonal T (diagonal, subdiagonal e),
 // at every κ of the grid at once, by the LDLᵀ of I/κ + T:
@@ -62,12 +65,12 @@ std::array<double, RegistrationPriorScale::kGridPoints> log_marginal_likelihoods
 
 }  // namespace
 
-void RegistrationPriorScale::add_coordinate(double prior_information, bool scaled) {
+void RegistrationPriorScale::add_coordinate(double prior_information, Group group) {
   if (!(prior_information > 0.0) || !std::isfinite(prior_information)) {
     throw std::invalid_argument("RegistrationPriorScale: a coordinate's prior information must be positive and finite");
   }
   prior_information_.push_back(prior_information);
-  scaled_.push_back(scaled);
+  groups_.push_back(group);
   const auto size = static_cast<Eigen::Index>(prior_information_.size());
   if (size > information_.rows()) {  // room for twice as many: views keep coming in a long scene
     const Eigen::Index capacity = std::max<Eigen::Index>(2 * size, 16);
@@ -94,14 +97,15 @@ void RegistrationPriorScale::add_vector(Eigen::Index row, const Eigen::Ref<const
   vector_.segment(row, segment.size()) += segment;
 }
 
-std::vector<double> RegistrationPriorScale::log_posterior() const {
+RegistrationPriorScale::ScaledEvidence RegistrationPriorScale::scaled_evidence() const {
   // Split β into the scaled coordinates s and the fixed ones f; integrate f out under its prior.
   const auto size = static_cast<Eigen::Index>(prior_information_.size());
   const Eigen::MatrixXd information = information_.topLeftCorner(size, size).selfadjointView<Eigen::Lower>();
   std::vector<Eigen::Index> scaled, fixed;
-  for (std::size_t j = 0; j < scaled_.size(); ++j) (scaled_[j] ? scaled : fixed).push_back(static_cast<Eigen::Index>(j));
-  Eigen::MatrixXd a = information(scaled, scaled);
-  Eigen::VectorXd b = vector_(scaled);
+  for (std::size_t j = 0; j < groups_.size(); ++j) {
+    (groups_[j] != Group::kFixed ? scaled : fixed).push_back(static_cast<Eigen::Index>(j));
+  }
+  ScaledEvidence evidence{information(scaled, scaled), vector_(scaled), Eigen::VectorXd(static_cast<Eigen::Index>(scaled.size())), {}};
   if (!fixed.empty()) {
     Eigen::MatrixXd fixed_information = information(fixed, fixed);
     for (std::size_t k = 0; k < fixed.size(); ++k) {
@@ -109,48 +113,100 @@ std::vector<double> RegistrationPriorScale::log_posterior() const {
     }
     const Eigen::LLT<Eigen::MatrixXd> factor(fixed_information);
     const Eigen::MatrixXd coupling = information(scaled, fixed);
-    a -= coupling * factor.solve(coupling.transpose());
-    b -= coupling * factor.solve(vector_(fixed).eval());
+    evidence.information -= coupling * factor.solve(coupling.transpose());
+    evidence.vector -= coupling * factor.solve(vector_(fixed).eval());
   }
-  // Whiten by the prior: Λ₀^{-½} A Λ₀^{-½} = Q T Qᵀ, g = Qᵀ Λ₀^{-½} b.
-  Eigen::VectorXd whitening(static_cast<Eigen::Index>(scaled.size()));
   for (std::size_t k = 0; k < scaled.size(); ++k) {
-    whitening(static_cast<Eigen::Index>(k)) = 1.0 / std::sqrt(prior_information_[static_cast<std::size_t>(scaled[k])]);
+    const auto j = static_cast<std::size_t>(scaled[k]);
+    evidence.prior_information(static_cast<Eigen::Index>(k)) = prior_information_[j];
+    evidence.translation.push_back(groups_[j] == Group::kTranslation);
   }
-  std::vector<double> result(kGridPoints);
-  Eigen::VectorXd diagonal, subdiagonal, g;
-  if (whitening.size() > 0) {
-    const Eigen::MatrixXd whitened = whitening.asDiagonal() * a * whitening.asDiagonal();
-    const Eigen::Tridiagonalization<Eigen::MatrixXd> tridiagonal(whitened);
-    diagonal = tridiagonal.diagonal();
-    subdiagonal = tridiagonal.subDiagonal();
-    g = tridiagonal.matrixQ().transpose() * whitening.cwiseProduct(b);
+  return evidence;
+}
+
+std::vector<double> RegistrationPriorScale::log_likelihood(double log2_ratio) const {
+  const std::array<double, kGridPoints> values = log_likelihood(scaled_evidence(), log2_ratio);
+  return {values.begin(), values.end()};
+}
+
+std::array<double, RegistrationPriorScale::kGridPoints> RegistrationPriorScale::log_likelihood(const ScaledEvidence& evidence,
+                                                                                               double log2_ratio) {
+  // Whiten by Λ_ρ: Λ_ρ^{-½} A Λ_ρ^{-½} = Q T Qᵀ, g = Qᵀ Λ_ρ^{-½} b.
+  const double ratio = std::exp2(log2_ratio);
+  const Eigen::Index size = evidence.prior_information.size();
+  if (size == 0) return {};
+  Eigen::VectorXd whitening(size);
+  for (Eigen::Index k = 0; k < size; ++k) {
+    const double prior_variance = 1.0 / evidence.prior_information(k);
+    whitening(k) = std::sqrt(evidence.translation[static_cast<std::size_t>(k)] ? prior_variance : ratio * prior_variance);
   }
-  std::array<double, kGridPoints> likelihood{};
-  if (whitening.size() > 0) likelihood = log_marginal_likelihoods(diagonal, subdiagonal, g);
-  for (int k = 0; k < kGridPoints; ++k) {
-    const double log_scale = grid_log2_scale(k) * std::log(2.0);
-    const double prior = -0.5 * log_scale * log_scale / (kLogScaleSigma * kLogScaleSigma);
-    result[static_cast<std::size_t>(k)] = prior + likelihood[static_cast<std::size_t>(k)];
+  const Eigen::MatrixXd whitened = whitening.asDiagonal() * evidence.information * whitening.asDiagonal();
+  const Eigen::Tridiagonalization<Eigen::MatrixXd> tridiagonal(whitened);
+  const Eigen::VectorXd g = tridiagonal.matrixQ().transpose() * whitening.cwiseProduct(evidence.vector);
+  return log_marginal_likelihoods(tridiagonal.diagonal(), tridiagonal.subDiagonal(), g);
+}
+
+double RegistrationPriorScale::scale(Group group) const {
+  switch (group) {
+    case Group::kTranslation: return translation_scale_;
+    case Group::kNoiseRatio: return noise_ratio_scale_;
+    case Group::kFixed: break;
   }
-  return result;
+  return 1.0;
 }
 
 bool RegistrationPriorScale::update() {
   if (dimensions_ < kFirstEstimateDimensions || dimensions_ < 2.0 * estimated_at_) return false;
   estimated_at_ = dimensions_;
-  // κ̂ = E[κ | data] over the grid.
-  const std::vector<double> posterior = log_posterior();
-  const double peak = *std::max_element(posterior.begin(), posterior.end());
-  double total = 0.0, weighted = 0.0;
+  // Two hypotheses, a priori equally likely (header): one scale (ρ = 1, ln κ ~ N(0, s²)), and two
+  // (ln κ_t, ln κ_n ~ N(0, s²) independent, ρ on its grid), each prior normalised over its own grid;
+  // (κ̂_t, κ̂_n) is the posterior mean over both. Views with coordinates of one kind only: one scale.
+  const ScaledEvidence evidence = scaled_evidence();
+  const auto translations = std::count(evidence.translation.begin(), evidence.translation.end(), true);
+  const bool both = translations > 0 && translations < static_cast<std::ptrdiff_t>(evidence.translation.size());
+  const auto log_prior = [](double log2_scale) {
+    const double ln = log2_scale * std::log(2.0);
+    return -0.5 * ln * ln / (kLogScaleSigma * kLogScaleSigma);
+  };
+  struct Point {
+    double log_weight, log2_translation, log2_noise_ratio;
+  };
+  std::vector<Point> points;
+  const std::array<double, kGridPoints> equal = log_likelihood(evidence, 0.0);
+  double one_norm = 0.0;
+  for (int k = 0; k < kGridPoints; ++k) one_norm += std::exp(log_prior(grid_log2_scale(k)));
   for (int k = 0; k < kGridPoints; ++k) {
-    const double weight = std::exp(posterior[static_cast<std::size_t>(k)] - peak);
-    total += weight;
-    weighted += weight * std::exp2(grid_log2_scale(k));
+    points.push_back({equal[static_cast<std::size_t>(k)] + log_prior(grid_log2_scale(k)) - std::log(one_norm),
+                      grid_log2_scale(k), grid_log2_scale(k)});
   }
-  const double scale = weighted / total;
-  const bool changed = scale != scale_;
-  scale_ = scale;
+  if (both) {
+    double two_norm = 0.0;
+    for (int r = 0; r < kRatioPoints; ++r) {
+      for (int k = 0; k < kGridPoints; ++k) two_norm += std::exp(log_prior(grid_log2_scale(k)) + log_prior(grid_log2_scale(k) + grid_log2_ratio(r)));
+    }
+    for (int r = 0; r < kRatioPoints; ++r) {
+      const std::array<double, kGridPoints> likelihood = r == kEqualRatio ? equal : log_likelihood(evidence, grid_log2_ratio(r));
+      for (int k = 0; k < kGridPoints; ++k) {
+        const double log2_translation = grid_log2_scale(k), log2_noise_ratio = log2_translation + grid_log2_ratio(r);
+        points.push_back({likelihood[static_cast<std::size_t>(k)] + log_prior(log2_translation) + log_prior(log2_noise_ratio) -
+                              std::log(two_norm),
+                          log2_translation, log2_noise_ratio});
+      }
+    }
+  }
+  double peak = -std::numeric_limits<double>::infinity();
+  for (const Point& point : points) peak = std::max(peak, point.log_weight);
+  double total = 0.0, translation = 0.0, noise_ratio = 0.0;
+  for (const Point& point : points) {
+    const double weight = std::exp(point.log_weight - peak);
+    total += weight;
+    translation += weight * std::exp2(point.log2_translation);
+    noise_ratio += weight * std::exp2(point.log2_noise_ratio);
+  }
+  const double translation_scale = translation / total, noise_ratio_scale = noise_ratio / total;
+  const bool changed = translation_scale != translation_scale_ || noise_ratio_scale != noise_ratio_scale_;
+  translation_scale_ = translation_scale;
+  noise_ratio_scale_ = noise_ratio_scale;
   return changed;
 }
 

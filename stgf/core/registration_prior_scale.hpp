@@ -5,9 +5,15 @@
 // The registration prior (view_registration.hpp) is calibrated where the model was trained. Another
 // camera network or fleet may be registered several times worse (or better): with a prior too small
 // the filter trusts its offsets' estimates, and so its fused positions, too much (NEES ≫ 3); too large,
-// and it gives up accuracy it could have had. One scale κ on the prior is learned per scene; the
-// prior's shape (σ_x : σ_y : σ_z : α) stays as calibrated:
-//     β_u ~ N(0, κ Σ₀) for every view u,   Λ₀ = Σ₀⁻¹.
+// it gives up accuracy it could have had. Two scales on the prior are learned per scene, one for the
+// translation t_u and one for the offset in units of the view's noise δ_u (its ratio α); the shape
+// within each (σ_x : σ_y : σ_z, and δ's isotropy) stays as calibrated:
+//     t_u ~ N(0, κ_t Σ₀,t),  δ_u ~ N(0, κ_n α² I₃) for every view u,   Λ₀ = Σ₀⁻¹,  Λ(κ) = Λ₀ / κ per coordinate.
+// Two, because sensors differ in both and not in proportion: a model calibrated on vehicles (GPS
+// offsets of decimetres, small α) meets cameras whose offsets are centimetres but grow with their
+// noise (large α). One scale on both could only take the compromise — on such cameras κ ≈ 0.9, so
+// the translations stayed ten times too uncertain, every view's weight came to the same σ², and the
+// fused positions lost their R-weighting (docs/design.md §1.7).
 //
 // Evidence: only what the offsets alone explain — the views' disagreements. When views measure an
 // object at one time, z_k = p + G_k β + e_k, e_k ~ N(0, R_k) (G_k = H_u E_u, joint_registration.hpp),
@@ -18,17 +24,33 @@
 // enters, so prediction errors cannot pass for offsets. With A = Σ_j A_j, b = Σ_j b_j over the scene
 // and β integrated out (registration_calibration.hpp's marginal likelihood, with differences in place
 // of residuals against the truth):
-//     log p(data | κ) = const + ½ bᵀ (Λ₀/κ + A)⁻¹ b − ½ log det(I + κ Λ₀^{-½} A Λ₀^{-½}).
+//     log p(data | κ) = const + ½ bᵀ (Λ(κ) + A)⁻¹ b − ½ log det(I + Λ(κ)^{-½} A Λ(κ)^{-½}).
 // Coordinates of β that are not scaled (a released offset's jump, whose prior is its own, fixed) are
 // integrated out first: A and b become their Schur complements onto the scaled coordinates.
-// With Λ₀^{-½} A Λ₀^{-½} = Q T Qᵀ (T tridiagonal) and g = Qᵀ Λ₀^{-½} b, both terms are O(c) per κ
-// through the LDLᵀ of I/κ + T.
+// For a ratio ρ = κ_n / κ_t, Λ(κ) = Λ_ρ / κ_t with Λ_ρ = Λ₀ on translations and Λ₀ / ρ on δ; with
+// Λ_ρ^{-½} A Λ_ρ^{-½} = Q T Qᵀ (T tridiagonal) and g = Qᵀ Λ_ρ^{-½} b, both terms are O(c) per κ_t
+// through the LDLᵀ of I/κ_t + T: one tridiagonalisation, O(c³), per ratio.
 //
-// Estimate: κ̂ = E[κ | data], the posterior mean over a grid of log₂ κ ∈ [−10, 10] in steps of 1/4,
-// under the prior ln κ ~ N(0, s²), s = kLogScaleSigma = 1. The mean, not the mode: the evidence of a
+// Estimate: (κ̂_t, κ̂_n) = E[(κ_t, κ_n) | data], the posterior mean under two hypotheses, a priori
+// equally likely, each with its prior normalised over its own grid:
+//   one scale   κ_n = κ_t = κ, ln κ ~ N(0, s²), log₂ κ ∈ [−10, 10] in steps of 1/4 (the prior's shape
+//               as calibrated: what a model meets on sensors like its training data's);
+//   two scales  ln κ_t, ln κ_n ~ N(0, s²) independent, on the same grid of κ_t times ratios
+//               ρ = κ_n / κ_t ∈ {2⁻⁸, 2⁻⁴, 1, 2⁴, 2⁸};
+// s = kLogScaleSigma = 1. The marginal likelihood weighs the hypotheses (the second's prior spreads
+// over 5 times as many points, so the evidence must favour another shape to move it). The ratios are
+// 16 apart: the posterior mean between them is what is used, and a finer grid (steps of 1 or 2 in
+// log₂ ρ) gave the same DE on the validation splits at 4× and 2× the cost (5 tridiagonalisations per
+// estimate instead of 1; the estimates of the `mpl` test split take 0.5 s more, about 12 % of its run).
+// Chosen on validation splits (docs/design.md §1.7): with a model calibrated on vehicles and
+// pedestrians (cad + ethucy), mpl val 0.0793 → 0.0434 m (`wls` 0.0457; κ̂_t ≈ 0.17, κ̂_n ≈ 13); with
+// mpl's own model 0.0323 → 0.0326 m (NEES 2.56 → 2.53), the cost of estimating two scales where one
+// fits; cad val with its own model 0.4685 → 0.4683 m (NEES 2.88 → 2.78). With views of one kind of
+// coordinate only (α = 0, or σ = 0), one scale alone.
+// The mean, not the mode: the evidence of a
 // short scene is thin, and a covariance made from the mode then too often shrinks below what the
 // offsets are (a filter that underestimates them is overconfident; one that overestimates them loses
-// a little accuracy). Chosen on validation splits (docs/design.md §1.7): mode with s = 2 gave NEES
+// a little accuracy). Chosen on validation splits for one scale (design §1.7): mode with s = 2 gave NEES
 // 3.61 on cad val (prior as calibrated: 2.71), the mean with s = 1 gave 2.87, and on mpl val with a
 // 3× and 5× larger calibration error 2.73 and 3.07 (mode, s = 2: 2.64 and 2.82; the mean with s = 2
 // shrank less on the proxies but more on cad). It is re-estimated when the evidence (the difference
@@ -47,13 +69,14 @@
 // understated 100×: 0.325 / 0.159 / 0.117 / 0.112 m; 2 % outliers: 0.356 / 0.100 / 0.099 / 0.098 m;
 // with the 3× and 5× calibration proxies unchanged (NEES 2.76 and 3.14).
 //
-// Assumptions: every view's offset is drawn from the same prior (one κ for all; a single view far off
+// Assumptions: every view's offset is drawn from the same prior (the same κ's for all; a single view far off
 // is the gate's business, view_noise_scales.hpp); the offsets are constant (a jump is a release); the
 // offset common to all views, which the differences do not show, is as large as the relative offsets
 // say, so it enters every position's covariance scaled by the same κ. Views on their own clocks,
 // which never measure an object at the same time, are compared within each track's frame, moved
 // along its predicted path to one time, the path's error added to their noise (frame_alignment.hpp).
 
+#include <array>
 #include <cstddef>
 #include <span>
 #include <vector>
@@ -61,6 +84,13 @@
 #include <Eigen/Dense>
 
 namespace stgf {
+
+// The learned scales of the registration prior: κ_t on the views' translation offsets, κ_n on their
+// offsets in units of their noise (1: as calibrated).
+struct RegistrationPriorScales {
+  double translation = 1.0;
+  double noise_ratio = 1.0;
+};
 
 class RegistrationPriorScale {
  public:
@@ -70,14 +100,19 @@ class RegistrationPriorScale {
   // A time whose disagreement, with the offsets as known taken out, exceeds this many times its
   // expected 3(k − 1) counts with a weight that bounds its pull (see "Robustness" above).
   static constexpr double kDisagreementTolerance = 2.0;
-  static constexpr int kGridPoints = 81;  // log₂ κ = −10, −9.75, …, 10
+  static constexpr int kGridPoints = 81;  // log₂ κ_t = −10, −9.75, …, 10
+  static constexpr int kRatioPoints = 5;  // log₂ ρ = −8, −4, 0, 4, 8
+  static constexpr double kRatioStep = 4.0;
+  static constexpr int kEqualRatio = 2;  // ρ = 1
 
-  // Appends a coordinate of β with its prior information (> 0); `scaled`: part of a view's own offset
-  // (its prior information is Λ₀'s, scaled by 1/κ), else fixed.
-  void add_coordinate(double prior_information, bool scaled);
+  // What a coordinate of β is part of: a view's translation offset (its prior information is Λ₀'s,
+  // scaled by 1/κ_t), its offset in units of its noise (by 1/κ_n), or neither (a released jump's, fixed).
+  enum class Group { kFixed, kTranslation, kNoiseRatio };
+  // Appends a coordinate of β with its prior information (> 0).
+  void add_coordinate(double prior_information, Group group);
   std::size_t coordinates() const { return prior_information_.size(); }
   double prior_information(std::size_t coordinate) const { return prior_information_[coordinate]; }
-  bool scaled(std::size_t coordinate) const { return scaled_[coordinate]; }
+  Group group(std::size_t coordinate) const { return groups_[coordinate]; }
 
   // One object's disagreement at one time is added in pieces: A_j by blocks of its lower triangle
   // (at rows [row, row + block rows), columns [column, …); a block on the diagonal is read by its lower
@@ -89,24 +124,37 @@ class RegistrationPriorScale {
   // offsets there are, once each is known): a caller may stop adding it.
   bool has_enough_evidence() const { return dimensions_ >= kEnoughEvidenceDimensions; }
 
-  // Re-estimates κ̂ if the evidence has doubled since the last estimate. Returns whether κ̂ changed.
+  // Re-estimates κ̂_t and κ̂_n if the evidence has doubled since the last estimate. Returns whether
+  // either changed.
   bool update();
-  double scale() const { return scale_; }  // κ̂: 1 before any estimate
+  double scale(Group group) const;  // its κ̂ (1 before any estimate, and for kFixed)
+  RegistrationPriorScales scales() const { return {translation_scale_, noise_ratio_scale_}; }
   bool estimated() const { return estimated_at_ > 0.0; }
   double evidence_dimensions() const { return dimensions_; }
 
-  // The log posterior (up to a constant) of κ = 2^(grid index / 4 − 10) for the evidence so far.
-  std::vector<double> log_posterior() const;
+  // The log marginal likelihood (up to a constant) of κ_t = 2^(grid index / 4 − 10) and κ_n = ρ κ_t
+  // for the evidence so far.
+  std::vector<double> log_likelihood(double log2_ratio = 0.0) const;
 
  private:
+  // The scaled coordinates' A and b (fixed ones integrated out), and for each its prior information
+  // and whether it is a translation's.
+  struct ScaledEvidence {
+    Eigen::MatrixXd information;
+    Eigen::VectorXd vector, prior_information;
+    std::vector<bool> translation;
+  };
+  ScaledEvidence scaled_evidence() const;
+  static std::array<double, kGridPoints> log_likelihood(const ScaledEvidence& evidence, double log2_ratio);
+
   std::vector<double> prior_information_;
-  std::vector<bool> scaled_;
+  std::vector<Group> groups_;
   // A (its lower triangle) and b, in the leading coordinates() rows of storage kept with room to grow.
   Eigen::MatrixXd information_;
   Eigen::VectorXd vector_;
   double dimensions_ = 0.0;
   double estimated_at_ = 0.0;  // evidence dimensions of the last estimate
-  double scale_ = 1.0;
+  double translation_scale_ = 1.0, noise_ratio_scale_ = 1.0;
 };
 
 }  // namespace stgf

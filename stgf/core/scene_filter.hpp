@@ -190,7 +190,7 @@ class SceneFilter {
   Eigen::Matrix<double, 6, 1> registration_offset(std::string_view view) const;
   // κ̂, the scale learned for the registration prior (1 when not learned), and whether it was: the
   // views' same-time disagreements reached RegistrationPriorScale::kFirstEstimateDimensions.
-  double registration_prior_scale() const { return state_.joint.prior_scale(); }
+  RegistrationPriorScales registration_prior_scales() const { return state_.joint.prior_scales(); }
   bool registration_prior_scale_learned() const { return state_.joint.prior_scale_estimated(); }
   // The latest event time processed (−∞ before any).
   double latest_time() const { return latest_time_; }

@@ -121,7 +121,7 @@ void run_block(const MotionPredictor& predictor, const FilterOptions& options, s
     run.motion_choice.add(scene.filter->motion_choice());
     if (options.adapt_registration_prior && !options.registration.is_zero() && options.tracks == TrackMode::kPerObject) {
       if (scene.filter->registration_prior_scale_learned()) {
-        run.registration_prior_scales.push_back(scene.filter->registration_prior_scale());
+        run.registration_prior_scales.push_back(scene.filter->registration_prior_scales());
       } else {
         ++run.scenes_without_prior_scale;
       }

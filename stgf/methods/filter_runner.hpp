@@ -44,10 +44,10 @@ struct FilterRun {
   std::size_t late_measurements = 0;   // too late for the lag window
   std::size_t rewinds = 0;             // late rows fused in their place in time
   GatingSummary gating;                // what the gate did (its restarts are in restarted_tracks too)
-  // The registration prior's learned scale κ̂ (registration_prior_scale.hpp) of each scene that had
-  // enough same-time disagreement to learn it, and how many had not (they kept κ = 1); both empty
-  // without a registration prior or with adaptation off.
-  std::vector<double> registration_prior_scales;
+  // The registration prior's learned scales κ̂_t, κ̂_n (registration_prior_scale.hpp) of each scene
+  // that had enough same-time disagreement to learn them, and how many had not (they kept κ = 1);
+  // both empty without a registration prior or with adaptation off.
+  std::vector<RegistrationPriorScales> registration_prior_scales;
   std::size_t scenes_without_prior_scale = 0;
   MotionChoiceSummary motion_choice;   // which motion the scenes followed (motion_choice.hpp)
 };

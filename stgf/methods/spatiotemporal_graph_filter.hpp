@@ -61,8 +61,8 @@ class SpatiotemporalGraphFilter final : public Localizer {
   std::size_t gate_restarts() const { return filter_.gate_restarts(); }
   // The estimated registration offset (t, δ) of a view (view_registration.hpp).
   Eigen::Matrix<double, 6, 1> registration_offset(std::string_view view) const { return filter_.registration_offset(view); }
-  // κ̂, the registration prior's scale learned from the views' disagreements (1 until learned).
-  double registration_prior_scale() const { return filter_.registration_prior_scale(); }
+  // κ̂_t and κ̂_n, the registration prior's scales learned from the views' disagreements (1 until learned).
+  RegistrationPriorScales registration_prior_scales() const { return filter_.registration_prior_scales(); }
 
  private:
   const MotionPredictor& predictor_;

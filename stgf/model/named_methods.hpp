@@ -36,7 +36,7 @@ struct MethodRunReport {
   std::size_t late_measurements = 0;  // rows later than the lag window, left out of the fusion
   bool registration_missing = false;  // the model holds no registration calibration (offsets taken as zero)
   GatingSummary gating;               // what the χ² gate did (its restarts are in restarted_tracks too)
-  std::vector<double> registration_prior_scales;  // κ̂ per scene that learned it (filter_runner.hpp)
+  std::vector<RegistrationPriorScales> registration_prior_scales;  // κ̂_t, κ̂_n per scene that learned them (filter_runner.hpp)
   std::size_t scenes_without_prior_scale = 0;     // scenes that kept κ = 1
   MotionChoiceSummary motion_choice;              // which motion the scenes followed
 
