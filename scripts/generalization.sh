@@ -228,32 +228,33 @@ cat >> "$out/generalization.md" <<'NOTES'
   where the data's frames are further apart than Φ's curve reaches, tracks coast by constant
   velocity with a Q measured at those intervals, and the coasting Q has its own online scale
   (design §1.2). So with the mpl model on ETH/UCY (2.5 Hz, every track coasts) `ours-motion-off`
-  equals `ours`, and `ours-fixed-q` shows what that scale does: NEES 5.04 → 3.39, DE 0.1063 →
-  0.0975 m.
+  equals `ours`, and `ours-fixed-q` shows what that scale does: NEES 4.91 → 3.32, DE 0.1061 →
+  0.0973 m.
 - **ETH/UCY with a model from other data.** Both the mpl model (pedestrians at 7 Hz) and the cad
-  model (vehicles at 10 Hz) now beat `wls` and `mmt` on the eth scene (0.0975 and 0.1001 against
-  0.1032 m), the mpl model with NEES 3.39, the cad model 2.11; and the mpl model beats
-  them on every other scene held out (the last table), NEES 3.2–3.3. What helps there is the
+  model (vehicles at 10 Hz) now beat `wls` and `mmt` on the eth scene (0.0973 and 0.1002 against
+  0.1032 m), the mpl model with NEES 3.32, the cad model 2.04; and the mpl model beats
+  them by 9–12 % on every other scene held out (the last table), NEES 3.1–3.2. What helps there is the
   coasting prediction with an honest Q, not Φ, which forecasts only from histories at about its own
-  training rate; on eth the mpl model's registration handling gains only 0.6 %
+  training rate; on eth the mpl model's registration handling gains only 0.8 %
   (`ours-registration-off` 0.0981 m, NEES 4.13). To gain from Φ itself, train it on data like yours
   (`stgf dataset` or your own benchmark folder, then `stgf train`).
 - Cameras 3 and 5 times worse calibrated than the training benchmark's: with the prior the model
-  calibrated, `ours-fixed-prior` trusts the offsets' estimates too much (NEES 9 and 21). `ours`
-  scales the prior per scene from what the views disagree on (`stgf run` logs the scale κ over the
-  scenes: median 7.9 and 22.3 here, against the true 9 and 25) and stays honest (NEES 2.8 and 3.1)
-  and a little more accurate. `ours-registration-off` shows what the offsets cost a filter that
+  calibrated, `ours-fixed-prior` trusts the offsets' estimates too much (NEES 9 and 22). `ours`
+  scales the prior per scene from what the views disagree on (`stgf run` logs the scales κ_t and κ_n
+  over the scenes: medians 7.5 and 7.6, and 22.2 and 22.1 here, against the true 9 and 25 for both:
+  the proxies scale every offset alike, so the one-scale hypothesis carries the posterior) and stays
+  honest (NEES 3.0 and 3.3) and a little more accurate. `ours-registration-off` shows what the offsets cost a filter that
   ignores them.
 - The same cameras on their own clocks (a phase per camera within the frame period, as
   docs/results.md's asynchronous splits, and scored as they are, from two frame periods on): no two
   views ever measure a pedestrian at the same time, so the views are compared within each track's
   frame, their measurements moved along its predicted path to one time (design §1.7,
-  `stgf/core/frame_alignment.hpp`). `ours` stays honest, NEES 2.95 and 3.20 (`ours-fixed-prior`, the
-  prior as calibrated: 7.36 and 13.55), at 0.0797 and 0.1164 m against `mmt`'s 0.4127 and 0.6328 m
+  `stgf/core/frame_alignment.hpp`). `ours` stays honest, NEES 3.08 and 3.32 (`ours-fixed-prior`, the
+  prior as calibrated: 7.36 and 13.55), at 0.0804 and 0.1170 m against `mmt`'s 0.4127 and 0.6328 m
   (`wls` fuses one view at a time there).
 - The cad model's prior (vehicles' GPS errors, σ ≈ 0.3 m) is far too large for ETH/UCY's cameras
-  (0.05 m): scaled down to the scene (κ ≈ 0.1), `ours` becomes honest (NEES 2.11 instead of
-  0.93) and beats `wls`.
+  (0.05 m): scaled down to the scene (κ_t ≈ κ_n ≈ 0.1), `ours` becomes honest (NEES 2.04 instead
+  of 0.93) and beats `wls`.
 - The same scenes at a lower frame rate (the mpl case) keep most of the gain: Φ learned from its
   training scenes at 1, 1/2 and 1/3 of their rate, and beyond that the tracks coast.
 - At 1 Hz every interval is longer than the mpl model's horizon (0.86 s, twice the longest interval
@@ -264,18 +265,18 @@ cat >> "$out/generalization.md" <<'NOTES'
 - **Q calibrated at longer intervals** (the last table, against models trained with
   `--long-intervals 0`). At 1 Hz `ours-l` is then a real one-second prediction (0.26 m, NEES 3.1), where before
   it was the measurement itself. Where the data is unlike mpl's, handing the wider-spaced histories
-  to constant velocity is what counts: at a third of mpl's rate `ours` gains 0.4 % and becomes
-  more honest (0.0457 m / NEES 2.78 against 0.0459 / 3.03), `ours-l` 24 % (0.105 against 0.139 m); on ETH/UCY the mpl model's `ours`
-  goes from 1–10 % below `wls`, NEES 4.4–5.2, to 6–12 % below it on all five scenes, NEES 3.2–3.4.
-  At mpl's own rate nothing changes. On cad it gains 0.1 % at 10 Hz (0.3451 against
-  0.3456) and 1.9 % (0.3659 against 0.3730) at 2 frames/s.
+  to constant velocity is what counts: at a third of mpl's rate `ours` gains 0.2 % and becomes
+  more honest (0.0459 m / NEES 2.74 against 0.0460 / 3.00), `ours-l` 24 % (0.105 against 0.139 m); on ETH/UCY the mpl model's `ours`
+  goes from 1–10 % below `wls`, NEES 4.3–5.2, to 6–12 % below it on all five scenes, NEES 3.1–3.3.
+  At mpl's own rate nothing changes. On cad it gains 0.2 % at 10 Hz (0.3441 against
+  0.3447) and 1.9 % (0.3652 against 0.3722) at 2 frames/s.
 - **Constant velocity where Φ does not fit** (design §1.13; compare `ours` with `ours-motion-off`).
   With Q calibrated at longer intervals Φ forecasts only from histories at about its training rate,
   and the per-scene choice changes little in these tables (at most 0.5 %, on the cad split turned by 90°). It mattered with
   the earlier models: on ETH/UCY's eth scene the mpl model trained with `--long-intervals 0` went
   from 0.1379 to 0.1174 m with it (NEES 30.7 → 13.1; 2026-11-23, before Q's scale learned from the
   views' combined innovation), still behind `wls`.
-- **cad at 2 frames/s** (5 s scenes, every fifth step of KITTI's 10 Hz): `ours` 0.3659 m, NEES 2.95, against
+- **cad at 2 frames/s** (5 s scenes, every fifth step of KITTI's 10 Hz): `ours` 0.3652 m, NEES 2.75, against
   `wls` 0.4868 and `mmt` 0.4845. `ours-l` is poor there (0.63 m): at 0.5 s per frame a
   track's second frame is predicted with no velocity. cad's validation scenes are 1 s long, so its
   coasting Q is calibrated to 0.4 s only; a track unseen for one frame (1 s) coasts all the same,
@@ -286,17 +287,19 @@ cat >> "$out/generalization.md" <<'NOTES'
   calibrate at such intervals.
 - **Without any calibration error** only Φ can help, and only where it predicts better than the
   measurements alone: on the mpl test split with perfectly calibrated cameras `ours` is 24 % below
-  `wls` (0.0320 against 0.0420 m; NEES 3.36), though the offsets it allows for cost it 1.3 % there
+  `wls` (0.0321 against 0.0420 m; NEES 3.31), though the offsets it allows for cost it 1.6 % there
   (`ours-registration-off` 0.0316 m, NEES 4.00); on cad at 2 frames/s without GPS
-  errors it merely ties `wls` (0.2053 against 0.2064 m) and is 0.9 % behind `mmt` (0.2035), with
-  NEES 1.45 (the registration prior, calibrated with GPS errors, is scaled down per
-  scene from the views' disagreements, but at 2 frames/s they are few: κ median 0.26). At 0.5 s per
+  errors it merely ties `wls` (0.2060 against 0.2064 m) and is 1.2 % behind `mmt` (0.2035), with
+  NEES 1.39, where `ours-registration-off` is 4.8 % ahead of `mmt` (0.1938, NEES 2.94): the
+  registration prior, calibrated with GPS errors, is scaled down per scene from the views'
+  disagreements, but at 2 frames/s they are few and its prior keeps κ near 1 (κ_t and κ_n median
+  0.32). At 0.5 s per
   frame the cad model hands every track to constant velocity with a Q calibrated for GPS-biased
   fused histories, wider than these need.
 - **The world frame's heading.** Turned by 90° about the vertical, the mpl test split loses
-  1.3 % (0.0398 against 0.0393), the cad one 2.5 % (0.3538 against 0.3451): 83 % of cad's training motion runs along +x. A cad model trained
-  with `--rotate` is better on the split as given (0.3445) and loses 2.3 % when it is turned
-  (0.3525): what still depends on the heading is not Φ but the registration's Cholesky factor
+  1.8 % (0.0402 against 0.0395), the cad one 2.5 % (0.3528 against 0.3441): 83 % of cad's training motion runs along +x. A cad model trained
+  with `--rotate` is better on the split as given (0.3436) and loses 2.3 % when it is turned
+  (0.3515): what still depends on the heading is not Φ but the registration's Cholesky factor
   (design §1.1, §1.7).
 - Moving the world origin 4000 km away changes nothing: the table is that of docs/results.md's
   mpl test split (the filter works in relative coordinates and starts its tracks from the

@@ -81,8 +81,8 @@ cat >> "$doc" <<'NOTES'
 ## Reading the numbers
 
 - **Within 10 % of the truth-trained model on both** (issue 11's target): on mpl `ours (no truth)`
-  is 0.8 % less accurate (0.0396 against 0.0393 m) with NEES 2.80; on cad it is 2.3 % more accurate
-  (0.3370 against 0.3451 m) with NEES 2.96.
+  is 0.5 % less accurate (0.0397 against 0.0395 m) with NEES 2.77; on cad it is 2.1 % more accurate
+  (0.3370 against 0.3441 m) with NEES 2.96.
 - **The registration prior from the disagreements** matches the one fitted against the truth on
   mpl: translation σ (0.039, 0.023, 0) m against (0.035, 0.021, 0), the noise ratio α 0.49 both.
   On cad the translation σ agree (0.31, 0.37 against 0.32, 0.33 m) but α is 0 against 0.95. cad's

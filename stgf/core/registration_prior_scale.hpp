@@ -39,9 +39,9 @@
 //               ρ = κ_n / κ_t ∈ {2⁻⁸, 2⁻⁴, 1, 2⁴, 2⁸};
 // s = kLogScaleSigma = 1. The marginal likelihood weighs the hypotheses (the second's prior spreads
 // over 5 times as many points, so the evidence must favour another shape to move it). The ratios are
-// 16 apart: the posterior mean between them is what is used, and a finer grid (steps of 1 or 2 in
-// log₂ ρ) gave the same DE on the validation splits at 4× and 2× the cost (5 tridiagonalisations per
-// estimate instead of 1; the estimates of the `mpl` test split take 0.5 s more, about 12 % of its run).
+// 16 apart: the posterior mean between them is what is used, and ratios 2 apart did no better on the
+// validation splits at 4× the cost (5 tridiagonalisations per estimate instead of 1; the estimates of
+// the `mpl` test split's 2,000 short scenes take about 0.5 s more, some 12 % of its run).
 // Chosen on validation splits (docs/design.md §1.7): with a model calibrated on vehicles and
 // pedestrians (cad + ethucy), mpl val 0.0793 → 0.0434 m (`wls` 0.0457; κ̂_t ≈ 0.17, κ̂_n ≈ 13); with
 // mpl's own model 0.0323 → 0.0326 m (NEES 2.56 → 2.53), the cost of estimating two scales where one
