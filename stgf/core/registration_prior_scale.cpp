@@ -22,13 +22,14 @@ double grid_log2_ratio(int index) {
 //     D_i = 1/κ + T_ii − e²_{i−1} / D_{i−1},   w_i = g_i − e_{i−1} w_{i−1} / D_{i−1},
 //     gᵀ(I/κ + T)⁻¹g = Σ w_i² / D_i,            det(I + κT) = Π κ D_i.
 // The grid is the inner loop (independent recurrences, one division each, vectorisable), and the
-// determinant's product takes a logarithm every few rows only (κ D_i ≥ 1 for T ⪰ 0, and each factor
-// is far below 10³⁰). −∞ where I/κ + T is not positive definite (T not quite ⪰ 0 in rounding).
+// determinant's product is renormalised every few rows by its binary exponent (κ D_i ≥ 1 for T ⪰ 0,
+// and each factor is far below 10³⁰), one logarithm at the end. −∞ where I/κ + T is not positive definite (T not quite ⪰ 0 in rounding).
 std::array<double, RegistrationPriorScale::kGridPoints> log_marginal_likelihoods(const Eigen::VectorXd& diagonal,
                                                                                  const Eigen::VectorXd& subdiagonal,
                                                                                  const Eigen::VectorXd& g) {
   constexpr int n = RegistrationPriorScale::kGridPoints;
-  std::array<double, n> scale{}, inverse_scale{}, inverse_pivot{}, solved{}, quadratic{}, log_determinant{}, product{};
+  std::array<double, n> scale{}, inverse_scale{}, inverse_pivot{}, solved{}, quadratic{}, product{};
+  std::array<int, n> binary_exponent{};  // det(I + κT) = product · 2^binary_exponent
   std::array<double, n> smallest_pivot{};
   for (int k = 0; k < n; ++k) {
     scale[k] = std::exp2(grid_log2_scale(k));
@@ -50,13 +51,17 @@ std::array<double, RegistrationPriorScale::kGridPoints> log_marginal_likelihoods
     }
     if (i % 8 == 7) {
       for (int k = 0; k < n; ++k) {
-        log_determinant[k] += std::log(product[k]);
-        product[k] = 1.0;
+        int exponent = 0;
+        product[k] = std::frexp(product[k], &exponent);
+        binary_exponent[k] += exponent;
       }
     }
   }
   std::array<double, n> result{};
-  for (int k = 0; k < n; ++k) result[k] = 0.5 * quadratic[k] - 0.5 * (log_determinant[k] + std::log(product[k]));
+  for (int k = 0; k < n; ++k) {
+    const double log_determinant = std::log(product[k]) + binary_exponent[k] * std::log(2.0);
+    result[k] = 0.5 * quadratic[k] - 0.5 * log_determinant;
+  }
   for (int k = 0; k < n; ++k) {
     if (!(smallest_pivot[k] > 0.0)) result[k] = -std::numeric_limits<double>::infinity();
   }
@@ -155,53 +160,67 @@ double RegistrationPriorScale::scale(Group group) const {
   return 1.0;
 }
 
+namespace {
+
+// The hypotheses' log priors on their grids, each normalised over its own (update()): computed once.
+struct GridPriors {
+  std::array<double, RegistrationPriorScale::kGridPoints> one{};
+  std::array<std::array<double, RegistrationPriorScale::kGridPoints>, RegistrationPriorScale::kRatioPoints> two{};
+  GridPriors() {
+    const auto log_prior = [](double log2_scale) {
+      const double ln = log2_scale * std::log(2.0);
+      return -0.5 * ln * ln / (RegistrationPriorScale::kLogScaleSigma * RegistrationPriorScale::kLogScaleSigma);
+    };
+    double one_norm = 0.0, two_norm = 0.0;
+    for (int k = 0; k < RegistrationPriorScale::kGridPoints; ++k) {
+      one[static_cast<std::size_t>(k)] = log_prior(grid_log2_scale(k));
+      one_norm += std::exp(one[static_cast<std::size_t>(k)]);
+      for (int r = 0; r < RegistrationPriorScale::kRatioPoints; ++r) {
+        double& value = two[static_cast<std::size_t>(r)][static_cast<std::size_t>(k)];
+        value = log_prior(grid_log2_scale(k)) + log_prior(grid_log2_scale(k) + grid_log2_ratio(r));
+        two_norm += std::exp(value);
+      }
+    }
+    for (double& value : one) value -= std::log(one_norm);
+    for (auto& row : two) {
+      for (double& value : row) value -= std::log(two_norm);
+    }
+  }
+};
+
+}  // namespace
+
 bool RegistrationPriorScale::update() {
   if (dimensions_ < kFirstEstimateDimensions || dimensions_ < 2.0 * estimated_at_) return false;
   estimated_at_ = dimensions_;
   // Two hypotheses, a priori equally likely (header): one scale (ρ = 1, ln κ ~ N(0, s²)), and two
   // (ln κ_t, ln κ_n ~ N(0, s²) independent, ρ on its grid), each prior normalised over its own grid;
   // (κ̂_t, κ̂_n) is the posterior mean over both. Views with coordinates of one kind only: one scale.
+  static const GridPriors priors;
   const ScaledEvidence evidence = scaled_evidence();
   const auto translations = std::count(evidence.translation.begin(), evidence.translation.end(), true);
   const bool both = translations > 0 && translations < static_cast<std::ptrdiff_t>(evidence.translation.size());
-  const auto log_prior = [](double log2_scale) {
-    const double ln = log2_scale * std::log(2.0);
-    return -0.5 * ln * ln / (kLogScaleSigma * kLogScaleSigma);
-  };
-  struct Point {
-    double log_weight, log2_translation, log2_noise_ratio;
-  };
-  std::vector<Point> points;
+  // log weights: the one-scale hypothesis's, then the two-scale one's per ratio.
+  std::array<std::array<double, kGridPoints>, kRatioPoints + 1> weights{};
   const std::array<double, kGridPoints> equal = log_likelihood(evidence, 0.0);
-  double one_norm = 0.0;
-  for (int k = 0; k < kGridPoints; ++k) one_norm += std::exp(log_prior(grid_log2_scale(k)));
-  for (int k = 0; k < kGridPoints; ++k) {
-    points.push_back({equal[static_cast<std::size_t>(k)] + log_prior(grid_log2_scale(k)) - std::log(one_norm),
-                      grid_log2_scale(k), grid_log2_scale(k)});
-  }
-  if (both) {
-    double two_norm = 0.0;
-    for (int r = 0; r < kRatioPoints; ++r) {
-      for (int k = 0; k < kGridPoints; ++k) two_norm += std::exp(log_prior(grid_log2_scale(k)) + log_prior(grid_log2_scale(k) + grid_log2_ratio(r)));
-    }
-    for (int r = 0; r < kRatioPoints; ++r) {
-      const std::array<double, kGridPoints> likelihood = r == kEqualRatio ? equal : log_likelihood(evidence, grid_log2_ratio(r));
-      for (int k = 0; k < kGridPoints; ++k) {
-        const double log2_translation = grid_log2_scale(k), log2_noise_ratio = log2_translation + grid_log2_ratio(r);
-        points.push_back({likelihood[static_cast<std::size_t>(k)] + log_prior(log2_translation) + log_prior(log2_noise_ratio) -
-                              std::log(two_norm),
-                          log2_translation, log2_noise_ratio});
-      }
-    }
-  }
   double peak = -std::numeric_limits<double>::infinity();
-  for (const Point& point : points) peak = std::max(peak, point.log_weight);
+  for (std::size_t k = 0; k < kGridPoints; ++k) peak = std::max(peak, weights[0][k] = equal[k] + priors.one[k]);
+  const int ratios = both ? kRatioPoints : 0;
+  for (int r = 0; r < ratios; ++r) {
+    const auto row = static_cast<std::size_t>(r);
+    const std::array<double, kGridPoints> likelihood = r == kEqualRatio ? equal : log_likelihood(evidence, grid_log2_ratio(r));
+    for (std::size_t k = 0; k < kGridPoints; ++k) peak = std::max(peak, weights[row + 1][k] = likelihood[k] + priors.two[row][k]);
+  }
   double total = 0.0, translation = 0.0, noise_ratio = 0.0;
-  for (const Point& point : points) {
-    const double weight = std::exp(point.log_weight - peak);
-    total += weight;
-    translation += weight * std::exp2(point.log2_translation);
-    noise_ratio += weight * std::exp2(point.log2_noise_ratio);
+  for (int h = 0; h <= ratios; ++h) {
+    const double ratio = h == 0 ? 1.0 : std::exp2(grid_log2_ratio(h - 1));
+    for (int k = 0; k < kGridPoints; ++k) {
+      const double weight = std::exp(weights[static_cast<std::size_t>(h)][static_cast<std::size_t>(k)] - peak);
+      const double scale = std::exp2(grid_log2_scale(k));
+      total += weight;
+      translation += weight * scale;
+      noise_ratio += weight * ratio * scale;
+    }
   }
   const double translation_scale = translation / total, noise_ratio_scale = noise_ratio / total;
   const bool changed = translation_scale != translation_scale_ || noise_ratio_scale != noise_ratio_scale_;
