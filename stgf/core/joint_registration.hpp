@@ -106,7 +106,8 @@ class JointRegistration {
   // The combined innovation of several measurements of one known object at one time: ν̄ = Σ_k W_k ν_k
   // with the information weights W_k = R̄ R_k⁻¹, R̄ = (Σ_k R_k⁻¹)⁻¹ (R_k = μ_k R), and, since
   // Cov(ν_k, ν_l) = P_i + C_k Σ_β C_lᵀ + δ_kl R_k (C_k = B_i + H_k E_k, as for one),
-  //     S̄ = P_i + V̄ᵀV̄ + R̄ (+ W_k H_k (κΣ₀) H_kᵀ W_kᵀ per view not yet seen),  V̄ = Σ_k L⁻¹C_kᵀ W_kᵀ
+  //     S̄ = P_i + V̄ᵀV̄ + R̄ (+ W_k H_k Σ₀' H_kᵀ W_kᵀ per view not yet seen, Σ₀' the scaled prior),
+  //     V̄ = Σ_k L⁻¹C_kᵀ W_kᵀ
   //     = W_i + L⁻¹ Σ_k E_kᵀ H_kᵀ W_kᵀ:
   // O(kc + c²), one substitution however many views. What the object's prediction is tested against
   // when its views agree (R̄ ≪ R), so that an understated Q shows where one view's noise would hide
@@ -120,9 +121,10 @@ class JointRegistration {
 
   // The size of the offsets, learned from the views' disagreements (registration_prior_scale.hpp):
   // adds one object's measurements at one time that were fused (with their noise scales) as evidence,
-  // and, once an event is done, re-estimates the prior's scale κ (when the evidence has doubled) and
-  // gives M its new prior term, M += (1/κ' − 1/κ) Λ₀ on the views' own blocks — exact, since M is the
-  // prior's information plus the data's. Returns whether κ changed. Without these calls, κ = 1.
+  // and, once an event is done, re-estimates the prior's scales κ_t, κ_n (when the evidence has doubled)
+  // and gives M its new prior term, M += (1/κ' − 1/κ) Λ₀ on each of the views' own coordinates with its
+  // group's κ — exact, since M is the prior's information plus the data's. Returns whether either
+  // changed. Without these calls, κ_t = κ_n = 1.
   // Measurements of one object at several times, each moved to one time along a predicted path
   // (frame_alignment.hpp), come with the covariance that moving adds to each, A_k: their weights are
   // W_k = (μ_k R_k + A_k)⁻¹ (their offset model H_k stays that of R_k).
@@ -147,7 +149,7 @@ class JointRegistration {
   // disagreement with the others' mean (W = I for it, minus the others' weights). It is
   // ‖Σ_k Y_k H_kᵀ W_kᵀ‖² (Y_k = L⁻¹E_kᵀ), so the offset common to the views, which the combination
   // cancels, is not counted as the measurements' own offset covariances H Σ_kk Hᵀ would count it. A
-  // view not yet seen adds W H (κ Σ₀) Hᵀ Wᵀ, independent of the rest. Zero for a zero prior. O(c) per
+  // view not yet seen adds W H Σ₀' Hᵀ Wᵀ (the scaled prior), independent of the rest. Zero for a zero prior. O(c) per
   // measurement.
   Matrix3d offsets_covariance(std::span<const Measurement* const> measurements, std::span<const Matrix3d> weights) const;
   // The estimated offset of `view` and its covariance (prior for an unknown view).

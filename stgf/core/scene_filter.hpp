@@ -111,7 +111,7 @@ struct FilterOptions {
   // Whether a scene whose innovations say constant velocity predicts it better than the motion model
   // follows constant velocity (motion_choice.hpp).
   MotionFallback motion_fallback = MotionFallback::kAuto;
-  // kPerObject: learn the registration prior's scale κ from the views' disagreements
+  // kPerObject: learn the registration prior's scales κ_t, κ_n from the views' disagreements
   // (registration_prior_scale.hpp; false: κ = 1, the prior as given)
   bool adapt_registration_prior = true;
   TrackMode tracks = TrackMode::kPerObject;
@@ -188,7 +188,7 @@ class SceneFilter {
   const MotionChoice& motion_choice() const { return state_.motion_choice; }
   // The estimated registration offset of a view (t, δ; zero for a zero prior or an unknown view).
   Eigen::Matrix<double, 6, 1> registration_offset(std::string_view view) const;
-  // κ̂, the scale learned for the registration prior (1 when not learned), and whether it was: the
+  // κ̂_t, κ̂_n, the scales learned for the registration prior (1 when not learned), and whether they were: the
   // views' same-time disagreements reached RegistrationPriorScale::kFirstEstimateDimensions.
   RegistrationPriorScales registration_prior_scales() const { return state_.joint.prior_scales(); }
   bool registration_prior_scale_learned() const { return state_.joint.prior_scale_estimated(); }
