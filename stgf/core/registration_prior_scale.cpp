@@ -23,7 +23,8 @@ double grid_log2_ratio(int index) {
 //     gᵀ(I/κ + T)⁻¹g = Σ w_i² / D_i,            det(I + κT) = Π κ D_i.
 // The grid is the inner loop (independent recurrences, one division each, vectorisable), and the
 // determinant's product is renormalised every few rows by its binary exponent (κ D_i ≥ 1 for T ⪰ 0,
-// and each factor is far below 10³⁰), one logarithm at the end. −∞ where I/κ + T is not positive definite (T not quite ⪰ 0 in rounding).
+// and each factor is far below 10³⁰), one logarithm at the end. −∞ where I/κ + T is not positive
+// definite (T not quite ⪰ 0 in rounding).
 std::array<double, RegistrationPriorScale::kGridPoints> log_marginal_likelihoods(const Eigen::VectorXd& diagonal,
                                                                                  const Eigen::VectorXd& subdiagonal,
                                                                                  const Eigen::VectorXd& g) {

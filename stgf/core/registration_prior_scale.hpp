@@ -47,10 +47,9 @@
 // mpl's own model 0.0323 → 0.0326 m (NEES 2.56 → 2.53), the cost of estimating two scales where one
 // fits; cad val with its own model 0.4685 → 0.4683 m (NEES 2.88 → 2.78). With views of one kind of
 // coordinate only (α = 0, or σ = 0), one scale alone.
-// The mean, not the mode: the evidence of a
-// short scene is thin, and a covariance made from the mode then too often shrinks below what the
-// offsets are (a filter that underestimates them is overconfident; one that overestimates them loses
-// a little accuracy). Chosen on validation splits for one scale (design §1.7): mode with s = 2 gave NEES
+// The mean, not the mode: the evidence of a short scene is thin, and a covariance made from the mode
+// then too often shrinks below what the offsets are (a filter that underestimates them is
+// overconfident; one that overestimates them loses a little accuracy). Chosen on validation splits for one scale (design §1.7): mode with s = 2 gave NEES
 // 3.61 on cad val (prior as calibrated: 2.71), the mean with s = 1 gave 2.87, and on mpl val with a
 // 3× and 5× larger calibration error 2.73 and 3.07 (mode, s = 2: 2.64 and 2.82; the mean with s = 2
 // shrank less on the proxies but more on cad). It is re-estimated when the evidence (the difference
