@@ -163,8 +163,11 @@ double RegistrationPriorScale::scale(Group group) const {
 
 namespace {
 
-// The hypotheses' log priors on their grids, each normalised over its own (update()): computed once.
+// The grid's κ_t and ρ, and the hypotheses' log priors on it, each normalised over its own (update()):
+// computed once.
 struct GridPriors {
+  std::array<double, RegistrationPriorScale::kGridPoints> scale{};
+  std::array<double, RegistrationPriorScale::kRatioPoints> ratio{};
   std::array<double, RegistrationPriorScale::kGridPoints> one{};
   std::array<std::array<double, RegistrationPriorScale::kGridPoints>, RegistrationPriorScale::kRatioPoints> two{};
   GridPriors() {
@@ -172,8 +175,10 @@ struct GridPriors {
       const double ln = log2_scale * std::log(2.0);
       return -0.5 * ln * ln / (RegistrationPriorScale::kLogScaleSigma * RegistrationPriorScale::kLogScaleSigma);
     };
+    for (int r = 0; r < RegistrationPriorScale::kRatioPoints; ++r) ratio[static_cast<std::size_t>(r)] = std::exp2(grid_log2_ratio(r));
     double one_norm = 0.0, two_norm = 0.0;
     for (int k = 0; k < RegistrationPriorScale::kGridPoints; ++k) {
+      scale[static_cast<std::size_t>(k)] = std::exp2(grid_log2_scale(k));
       one[static_cast<std::size_t>(k)] = log_prior(grid_log2_scale(k));
       one_norm += std::exp(one[static_cast<std::size_t>(k)]);
       for (int r = 0; r < RegistrationPriorScale::kRatioPoints; ++r) {
@@ -214,10 +219,10 @@ bool RegistrationPriorScale::update() {
   }
   double total = 0.0, translation = 0.0, noise_ratio = 0.0;
   for (int h = 0; h <= ratios; ++h) {
-    const double ratio = h == 0 ? 1.0 : std::exp2(grid_log2_ratio(h - 1));
-    for (int k = 0; k < kGridPoints; ++k) {
-      const double weight = std::exp(weights[static_cast<std::size_t>(h)][static_cast<std::size_t>(k)] - peak);
-      const double scale = std::exp2(grid_log2_scale(k));
+    const double ratio = h == 0 ? 1.0 : priors.ratio[static_cast<std::size_t>(h - 1)];
+    for (std::size_t k = 0; k < kGridPoints; ++k) {
+      const double weight = std::exp(weights[static_cast<std::size_t>(h)][k] - peak);
+      const double scale = priors.scale[k];
       total += weight;
       translation += weight * scale;
       noise_ratio += weight * ratio * scale;
