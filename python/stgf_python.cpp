@@ -28,8 +28,9 @@
 #include "stgf/io/measurement_file.hpp"
 #include "stgf/io/method_config_file.hpp"
 #include "stgf/io/truth_file.hpp"
-#include "stgf/model/trained_motion_model.hpp"
+#include "stgf/model/general_model.hpp"
 #include "stgf/model/named_methods.hpp"
+#include "stgf/model/trained_motion_model.hpp"
 #include "stgf/methods/spatiotemporal_graph_filter.hpp"
 #include "stgf/version.hpp"
 
@@ -161,6 +162,8 @@ struct Model {
 };
 
 Model load_model(const std::string& path) { return Model{std::make_shared<const TrainedMotionModel>(TrainedMotionModel::load(path)), path}; }
+// The general model shipped with stgf (stgf/model/general_model.hpp).
+Model shipped_general_model() { return Model{std::make_shared<const TrainedMotionModel>(general_model()), kGeneralModelName}; }
 
 // ── Streaming filter ─────────────────────────────────────────────────────────────────────────────
 
@@ -244,10 +247,14 @@ py::dict run(const std::string& method, const py::object& scene, const Array& ti
   const std::vector<Measurement> rows = measurements_from_arrays(scene, time, view, object, z, R, arrival, {});
   std::optional<Model> loaded;
   if (is_learned_method(method)) {
-    if (model.is_none()) throw std::invalid_argument("method " + method + " needs a model");
-    loaded = py::isinstance<py::str>(model) ? Model{std::make_shared<const TrainedMotionModel>(load_model_for(method, model.cast<std::string>())),
+    // No model: ours and ours-l get the general model, as `stgf run` without --model (sttp: an error).
+    if (model.is_none()) {
+      loaded = Model{std::make_shared<const TrainedMotionModel>(load_model_for(method, "")), kGeneralModelName};
+    } else {
+      loaded = py::isinstance<py::str>(model) ? Model{std::make_shared<const TrainedMotionModel>(load_model_for(method, model.cast<std::string>())),
                                                     model.cast<std::string>()}
-                                            : model.cast<Model>();
+                                              : model.cast<Model>();
+    }
   }
   MethodRunReport report;
   std::vector<Gaussian3> estimates;
@@ -445,6 +452,8 @@ PYBIND11_MODULE(_stgf, m) {
       }, py::arg("dt"), "Q (m²) for a prediction interval of dt seconds.");
 
   m.def("load_model", &sp::load_model, py::arg("path"));
+  m.def("general_model", &sp::shipped_general_model,
+        "The general model shipped with stgf (models/README.md): what run() uses for ours and ours-l without a model.");
 
   py::class_<Filter>(m, "Filter")
       .def(py::init<const py::object&, const std::optional<std::string>&, double, double>(), py::arg("model") = py::none(),

@@ -3,6 +3,8 @@
 //              [--asynchronous [--jitter S]] [--latency S]
 
 #include <chrono>
+#include <filesystem>
+#include <stdexcept>
 
 #include <spdlog/spdlog.h>
 
@@ -168,6 +170,11 @@ void add_cad(CLI::App& dataset) {
   add_clock_options(*command, c.clocks);
   command->callback([options] {
     if (options->cad.source_directory.empty()) options->cad.source_directory = default_kitti_directory();
+    if (!std::filesystem::is_directory(options->cad.source_directory)) {
+      throw std::invalid_argument("no KITTI tracking folder at " + options->cad.source_directory +
+                                  " (KITTI is not shipped with stgf: give its label/, oxts/ and calib/ folders with "
+                                  "--source or STGF_KITTI_DIR; data/README.md)");
+    }
     // The folder --out is replaced: the source data may not be in it.
     refuse_outputs_over_inputs("--out", {options->out}, {options->cad.source_directory});
     build_and_write(options->out, [&] { return make_cad_benchmark(options->cad); });

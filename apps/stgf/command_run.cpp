@@ -147,7 +147,9 @@ void add_run_command(CLI::App& app) {
       ->required();
   command->add_option("--out", options->out, "estimates CSV to write")->required();
   command->add_option("--config", options->config, "YAML method settings (see config/methods.yaml)");
-  command->add_option("--model", options->model, "model file from stgf train (for sttp, ours-l and ours)");
+  command->add_option("--model", options->model,
+                       "model file from stgf train (for sttp, ours-l and ours; without it, ours and ours-l use the "
+                       "general model shipped with stgf, models/README.md)");
   command->callback([options] { run(*options); });
 }
 

@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: Apache-2.0
 // stgf train --benchmark DIR --out MODEL.pt [--input raw|fused] [--epochs N] [--lr X] [--batch N]
-//            [--seed S] [--threads N] [--portable] [--resume MODEL.pt] [--history N] [--history-noise observed|matched]
+//            [--seed S] [--threads N] [--portable] [--resume MODEL.pt] [--no-resume-state] [--history N] [--history-noise observed|matched]
 
 #include "commands.hpp"
 #include "learned_seam.hpp"
@@ -60,6 +60,9 @@ void add_train_command(CLI::App& app) {
   command->add_option("--threads", t.threads, "LibTorch threads for training (0: all cores; more are faster only on an idle machine)")->capture_default_str();
   command->add_flag(kPortableFlag, *portable, kPortableFlagHelp);
   command->add_option("--resume", t.resume, "continue from this model file (weights and optimizer state)");
+  command->add_flag("!--no-resume-state", t.keep_optimizer_state,
+                    "leave the optimizer's state out of the model file: a third the size (a model to ship); it runs "
+                    "as before, and --resume from it starts the optimizer afresh");
   command->add_option("--history", t.shape.history_length, "history intervals Φ sees")
       ->capture_default_str()
       ->check(CLI::PositiveNumber);

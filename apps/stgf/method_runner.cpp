@@ -8,6 +8,7 @@
 #include <spdlog/spdlog.h>
 
 #include "gating_log.hpp"
+#include "stgf/model/general_model.hpp"
 #include "stgf/methods/filter_runner.hpp"
 
 namespace stgf::cli {
@@ -106,20 +107,26 @@ class LoadedMethod final : public BlockMethod {
   LoadedMethod(std::string method, MethodConfig config, std::string model_path)
       : method_(std::move(method)),
         config_(std::move(config)),
-        model_path_(std::move(model_path)),
-        model_(load_model_for(method_, model_path_)),
-        run_(method_, config_, &model_, model_path_) {}
+        model_(load_model_for(method_, model_path)),
+        model_name_(model_path.empty() ? kGeneralModelName : std::move(model_path)),
+        run_(method_, config_, &model_, model_name_) {
+    if (model_name_ == kGeneralModelName) {
+      spdlog::info("{}: no --model given: {}, trained on pedestrians and vehicles of PETS 2009, ETH/UCY and KITTI "
+                   "(models/README.md); a model trained on your own sensors' data (stgf train) fits them better",
+                   method_, kGeneralModelName);
+    }
+  }
 
   std::size_t scenes_per_block() const override { return method_ == "sttp" ? 1 : kScenesPerFilterBlock; }
   std::vector<Gaussian3> add(std::span<const Measurement> rows) override { return run_.add(rows); }
   std::vector<Gaussian3> finish() override { return run_.finish(); }
-  void log_report() const override { log_method_report(method_, config_, &model_, model_path_, run_.report()); }
+  void log_report() const override { log_method_report(method_, config_, &model_, model_name_, run_.report()); }
 
  private:
   std::string method_;
   MethodConfig config_;
-  std::string model_path_;
   TrainedMotionModel model_;
+  std::string model_name_;  // its path, or the general model's name
   NamedMethodRun run_;
 };
 

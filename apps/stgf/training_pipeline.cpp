@@ -326,6 +326,11 @@ void train_model(ModelTraining options) {
   const TrainingReport report = train_motion_model(
       train_graphs, validation_graphs, options.training, working.path(),
       [terminal, &last_shown](const TrainingProgress& p) { show_progress(p, terminal, last_shown); });
+  if (report.resumed_without_optimizer_state) {
+    spdlog::info("{} holds no optimizer state (it was written with --no-resume-state): Adam started afresh from "
+                 "its weights",
+                 options.training.resume);
+  }
   if (report.diverged_epoch != 0) {
     const std::string where = report.diverged_batch > 0 ? fmt::format("batch {}", report.diverged_batch) : "validation";
     const std::string advice = fmt::format("lower --lr (now {:g}) or check the training data", options.training.learning_rate);

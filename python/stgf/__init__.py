@@ -29,6 +29,7 @@ from ._stgf import (  # noqa: F401  (re-exported)
     Model,
     __version__,
     evaluate,
+    general_model,
     load_model,
     metrics,
     method_names,
@@ -39,7 +40,7 @@ from ._stgf import (  # noqa: F401  (re-exported)
 from . import _stgf
 
 __all__ = [
-    "Filter", "InputError", "LateMeasurementError", "Model", "__version__", "evaluate", "load_model",
+    "Filter", "InputError", "LateMeasurementError", "Model", "__version__", "evaluate", "general_model", "load_model",
     "method_names", "metrics", "read_estimates", "read_measurements", "read_truth", "run", "run_file",
     "write_estimates",
 ]
@@ -50,7 +51,8 @@ def run(method, measurements, model=None, config=None):
 
     ``measurements`` is a dict as read_measurements returns it (keys scene, time, view, object, z, R,
     and optionally arrival), or the path of a measurements CSV. ``model`` (a path or a Model) is
-    needed by sttp, ours-l and ours; ``config`` is the path of a YAML method settings file.
+    what sttp, ours-l and ours run; without one, ours and ours-l use the general model shipped with
+    stgf (general_model(), models/README.md) and sttp is an error; ``config`` is the path of a YAML method settings file.
     Returns a dict: ``mean`` (n, 3), ``covariance`` (n, 3, 3), one per measurement in order, and
     ``report`` (restarted tracks, rewinds and late measurements left out, as the CLI logs them).
     """

@@ -197,9 +197,14 @@ class TestFilesAndMethods(unittest.TestCase):
         self.assertAlmostEqual(direct["de"], scores[0]["de"], places=8)  # the CSV rounds
         self.assertAlmostEqual(direct["nees_mean"], scores[0]["nees_mean"], places=5)
 
-    def test_learned_method_needs_a_model(self):
-        with self.assertRaisesRegex(ValueError, "method ours needs a model"):
-            stgf.run("ours", self.measurements)
+    def test_learned_method_without_a_model_uses_the_general_model(self):
+        shipped = stgf.general_model()
+        self.assertEqual(shipped.metadata["input"], "fused")
+        self.assertEqual(stgf.run("ours", self.measurements, model=shipped)["mean"].tolist(),
+                         stgf.run("ours", self.measurements)["mean"].tolist())
+        # sttp's model learns from one view's raw measurements: the general model is not one.
+        with self.assertRaisesRegex(ValueError, "method sttp needs --model"):
+            stgf.run("sttp", self.measurements)
         with self.assertRaisesRegex(ValueError, "unknown method 'nope'"):
             stgf.run("nope", self.measurements)
 

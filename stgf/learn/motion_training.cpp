@@ -191,18 +191,20 @@ TrainingReport train_motion_model(const std::vector<TrainingGraph>& train, const
   int first_epoch = 1;
   std::error_code ignored_error;
   double best_error = std::numeric_limits<double>::infinity();
+  bool resumed_without_optimizer_state = false;
   if (!options.resume.empty()) {
     // The resumed file is the best model so far: it is the output until an epoch beats it.
     if (!std::filesystem::equivalent(options.resume, model_path, ignored_error)) {
       std::filesystem::copy_file(options.resume, model_path, std::filesystem::copy_options::overwrite_existing);
     }
-    load_optimizer_state(options.resume, optimizer);
+    resumed_without_optimizer_state = !load_optimizer_state(options.resume, optimizer);
     const nlohmann::json& stored = impl.metadata;
     first_epoch = stored.value("epoch", 0) + 1;
     best_error = stored.value("best_validation_error", best_error);
   }
 
   TrainingReport report;
+  report.resumed_without_optimizer_state = resumed_without_optimizer_state;
   report.train_objects = count_objects(train);
   report.validation_objects = count_objects(validation);
   report.constant_velocity_validation_error = constant_velocity_error(validation);
@@ -360,7 +362,7 @@ TrainingReport train_motion_model(const std::vector<TrainingGraph>& train, const
       metadata["history_noise"] =
           options.history == HistoryNoise::kObserved ? "observed" : "truth_with_matched_noise";
       impl.metadata = metadata;
-      impl.save(model_path, metadata, &optimizer);
+      impl.save(model_path, metadata, options.keep_optimizer_state ? &optimizer : nullptr);
       report.best_epoch = epoch;
       report.process_noise = impl.process_noise_reference;
       report.process_noise_period = reference_period;

@@ -42,6 +42,9 @@ struct MotionTrainingOptions {
   // one (bench/README.md). A model's bytes depend on the count (float sums in another order).
   int threads = 1;
   std::string resume;          // model file to continue from (its optimizer state too), or empty
+  // false: the model file leaves out Adam's state (a third the size: what a model shipped to users
+  // needs); it runs as before, and resuming from it starts Adam afresh.
+  bool keep_optimizer_state = true;
   HistoryNoise history = HistoryNoise::kObserved;
   // Each training graph turned about the vertical axis by an angle drawn uniformly every epoch, so
   // that Φ learns motion whatever the world frame's heading (the validation graphs stay as given).
@@ -69,6 +72,8 @@ struct TrainingProgress {
 struct TrainingReport {
   std::vector<EpochReport> epochs;
   std::optional<double> initial_validation_nll;  // of the untrained model (none when resuming)
+  // Resumed from a file without the optimizer's state (keep_optimizer_state false): Adam started afresh.
+  bool resumed_without_optimizer_state = false;
   int best_epoch = 0;
   double best_validation_error = 0.0;
   double constant_velocity_validation_error = 0.0;  // the same graphs predicted at constant velocity

@@ -4,6 +4,7 @@
 #include <iterator>
 #include <stdexcept>
 
+#include "stgf/model/general_model.hpp"
 #include "stgf/model/learned_methods.hpp"
 #include "stgf/model/registration_metadata.hpp"
 #include "stgf/methods/filter_runner.hpp"
@@ -12,9 +13,13 @@
 namespace stgf {
 
 TrainedMotionModel load_model_for(const std::string& method, const std::string& model_path) {
-  if (model_path.empty()) throw std::invalid_argument("--method " + method + " needs --model");
-  TrainedMotionModel model = TrainedMotionModel::load(model_path);
   const std::string wanted = method == "sttp" ? "raw" : "fused";
+  if (model_path.empty()) {
+    // The shipped model learned from fused histories: it serves ours and ours-l, not sttp.
+    if (wanted == "raw") throw std::invalid_argument("--method " + method + " needs --model (a model trained with --input raw)");
+    return general_model();
+  }
+  TrainedMotionModel model = TrainedMotionModel::load(model_path);
   const std::string trained = model.metadata().value("input", "");
   if (trained != wanted) {
     throw std::invalid_argument(model_path + " was trained on " + (trained.empty() ? "unknown" : trained) +

@@ -19,7 +19,8 @@
 namespace stgf {
 
 // Loads the model a learned method needs and checks it was trained on the right input (raw for sttp,
-// fused for ours-l and ours); InputError or std::invalid_argument naming the file otherwise.
+// fused for ours-l and ours); InputError or std::invalid_argument naming the file otherwise. With no
+// path, ours and ours-l get the general model shipped with stgf (general_model.hpp); sttp has none.
 TrainedMotionModel load_model_for(const std::string& method, const std::string& model_path);
 
 // The spatiotemporal graph filter's options from the `ours:` settings: the registration prior is the

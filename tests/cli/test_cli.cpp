@@ -17,6 +17,7 @@
 
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
 
 #include "stgf/version.hpp"
 
@@ -584,6 +585,20 @@ TEST_F(Cli, TrainThenRunLearnedMethods) {
       stgf("train --benchmark bench --out resumed.pt --input fused --epochs 1 --batch 8 --threads 1 --resume fused.pt");
   ASSERT_EQ(resumed.status, 0) << resumed.err;
   EXPECT_THAT(resumed.err, HasSubstr("epoch 3/3"));
+  // --no-resume-state: the same model without Adam's state, smaller, and it runs the same; resuming
+  // from it says that Adam starts afresh.
+  const Result slim =
+      stgf("train --benchmark bench --out slim.pt --input fused --epochs 2 --batch 8 --threads 1 --no-resume-state");
+  ASSERT_EQ(slim.status, 0) << slim.err;
+  EXPECT_LT(fs::file_size(directory_ / "slim.pt"), fs::file_size(directory_ / "fused.pt"));
+  const std::string test_rows = " --measurements bench/test/measurements.csv";
+  ASSERT_EQ(stgf("run --method ours --model fused.pt" + test_rows + " --out ours-fused.csv").status, 0);
+  ASSERT_EQ(stgf("run --method ours --model slim.pt" + test_rows + " --out ours-slim.csv").status, 0);
+  EXPECT_EQ(slurp(directory_ / "ours-fused.csv"), slurp(directory_ / "ours-slim.csv"));
+  const Result fresh =
+      stgf("train --benchmark bench --out fresh.pt --input fused --epochs 1 --batch 8 --threads 1 --resume slim.pt");
+  ASSERT_EQ(fresh.status, 0) << fresh.err;
+  EXPECT_THAT(fresh.err, HasSubstr("slim.pt holds no optimizer state"));
   const Result raw = stgf("train --benchmark bench --out raw.pt --input raw --epochs 1 --threads 1");
   ASSERT_EQ(raw.status, 0) << raw.err;
   const std::string m = "--measurements bench/test/measurements.csv";
@@ -889,6 +904,63 @@ TEST_F(Cli, InjectFaultMakesOneViewFaulty) {
   EXPECT_NE(slurp(directory_ / "f.csv"), kHeader + kGoodRows);
   EXPECT_EQ(stgf("run --method wls --measurements f.csv --out e.csv").status, 0);
   EXPECT_EQ(stgf("inject-fault --measurements m.csv --view v1 --kind wobble --out g.csv").status, 2);
+}
+
+
+// The general model shipped with stgf (models/README.md) is what ours and ours-l run without --model,
+// and it keeps the validation numbers recorded for it (models/general-validation.csv, written by
+// scripts/general_model_validation.sh): each benchmark the test can build (cad needs the KITTI copy)
+// is built as recorded, run with and without --model models/general.pt, and scored.
+TEST_F(Cli, ShippedGeneralModelKeepsItsValidationNumbers) {
+  std::ifstream recorded(STGF_SOURCE_DIR "/models/general-validation.csv");
+  ASSERT_TRUE(recorded) << "models/general-validation.csv is missing";
+  std::vector<std::string> built;
+  int checked = 0;
+  for (std::string line; std::getline(recorded, line);) {
+    if (line.empty() || line.front() == '#' || line.rfind("benchmark,", 0) == 0) continue;
+    std::istringstream fields(line);
+    std::string benchmark, method, rows, de, nees;
+    std::getline(fields, benchmark, ',');
+    std::getline(fields, method, ',');
+    std::getline(fields, rows, ',');
+    std::getline(fields, de, ',');
+    std::getline(fields, nees, ',');
+    if (std::find(built.begin(), built.end(), benchmark) == built.end()) {
+      const Result dataset = stgf("dataset " + benchmark + " --out " + benchmark + " --seed 1 -q");
+      if (benchmark == "cad" && dataset.status == 2 && dataset.err.find("no KITTI tracking folder") != std::string::npos) {
+        continue;  // the KITTI copy is not here (data/README.md)
+      }
+      ASSERT_EQ(dataset.status, 0) << dataset.err;
+      built.push_back(benchmark);
+      const std::string m = " --measurements " + benchmark + "/val/measurements.csv";
+      ASSERT_EQ(stgf("run --method wls" + m + " --out " + benchmark + "-wls.csv -q").status, 0);
+      const Result shipped = stgf("run --method ours" + m + " --out " + benchmark + "-ours.csv");
+      ASSERT_EQ(shipped.status, 0) << shipped.err;
+      EXPECT_THAT(shipped.err, HasSubstr("no --model given: stgf's general model (models/general.pt)"));
+      ASSERT_EQ(stgf("run --method ours --model '" STGF_SOURCE_DIR "/models/general.pt'" + m + " --out " + benchmark +
+                     "-file.csv -q")
+                    .status,
+                0);
+      EXPECT_EQ(slurp(directory_ / (benchmark + "-ours.csv")), slurp(directory_ / (benchmark + "-file.csv")))
+          << "the model built into stgf is not models/general.pt";
+      const Result eval = stgf("eval --truth " + benchmark + "/val/truth.csv" + m + " --estimates " + benchmark +
+                               "-wls.csv " + benchmark + "-ours.csv --from-step 2 --json " + benchmark + ".json");
+      ASSERT_EQ(eval.status, 0) << eval.err;
+    }
+    const nlohmann::json scores = nlohmann::json::parse(slurp(directory_ / (benchmark + ".json")));
+    const auto scored = std::find_if(scores.at("methods").begin(), scores.at("methods").end(),
+                                     [&](const nlohmann::json& entry) { return entry.at("method") == method; });
+    ASSERT_NE(scored, scores.at("methods").end()) << benchmark << ": " << method << " was not scored";
+    const nlohmann::json& overall = scored->at("overall");
+    EXPECT_EQ(overall.at("rows").get<long>(), std::stol(rows)) << benchmark << " " << method;
+    // Recorded to 9 digits; the same machine gives the same bits, another CPU's vector units may
+    // differ in the last ones.
+    EXPECT_NEAR(overall.at("de").get<double>(), std::stod(de), 1e-6 * std::stod(de)) << benchmark << " " << method;
+    EXPECT_NEAR(overall.at("nees_mean").get<double>(), std::stod(nees), 1e-6 * std::stod(nees))
+        << benchmark << " " << method;
+    ++checked;
+  }
+  EXPECT_GE(checked, 4) << "mpl and ethucy each record wls and ours";
 }
 
 }  // namespace
