@@ -3,8 +3,9 @@
 # Installs what is missing, builds, and runs the whole test suite through ctest. Then:
 #   - the learned model's tests once more with one OpenMP thread and OpenBLAS on its Haswell kernels
 #     (results must not depend on the thread count or the BLAS kernel choice);
-#   - the core, the methods and the trained model's reader built and tested without LibTorch (build-core/,
-#     -DSTGF_WITH_LIBTORCH=OFF), and `stgf run --method ours` run there;
+#   - the core, the methods and the trained model's reader built and tested without LibTorch and without
+#     the general model (build-core/, -DSTGF_WITH_LIBTORCH=OFF -DSTGF_GENERAL_MODEL=OFF), and
+#     `stgf run --method ours` run there;
 #   - everything that does not need LibTorch (all but training) again under ASan + UBSan
 #     (scripts/sanitize.sh, build-sanitize/): any report fails the run;
 #   - every reader fuzzed for 10 s (scripts/fuzz.sh: libFuzzer with ASan + UBSan, and the model file's
@@ -19,10 +20,9 @@ echo "== the learned model's tests with OMP_NUM_THREADS=1 OPENBLAS_CORETYPE=Hasw
 OMP_NUM_THREADS=1 OPENBLAS_CORETYPE=Haswell build/tests/test_learn --gtest_brief=1
 
 echo "== the core, the methods and a trained model without LibTorch (build-core/)"
-if [ ! -f build-core/CMakeCache.txt ]; then
-  cmake -S . -B build-core -G Ninja -DCMAKE_BUILD_TYPE=Release -DSTGF_WITH_LIBTORCH=OFF -DSTGF_BUILD_PYTHON=OFF \
-    -DSTGF_BUILD_BENCHMARKS=OFF >/dev/null
-fi
+# Also without the general model (-DSTGF_GENERAL_MODEL=OFF, for builds that must not carry KITTI's terms).
+cmake -S . -B build-core -G Ninja -DCMAKE_BUILD_TYPE=Release -DSTGF_WITH_LIBTORCH=OFF -DSTGF_BUILD_PYTHON=OFF \
+  -DSTGF_BUILD_BENCHMARKS=OFF -DSTGF_GENERAL_MODEL=OFF >/dev/null
 cmake --build build-core --parallel "$(nproc)" --target test_core test_methods test_model stgf_cli
 if ldd build-core/tests/test_core build-core/tests/test_methods build-core/tests/test_model build-core/stgf | grep -q libtorch; then
   echo "build-core links LibTorch" >&2
@@ -35,6 +35,13 @@ build-core/tests/test_model --gtest_brief=1
 rm -rf build-core/sample && build-core/stgf dataset synthetic --out build-core/sample --seed 1 --scenes 2 --steps 20 -q
 build-core/stgf run --method ours --model tests/model/data/tiny-motion-model.pt \
   --measurements build-core/sample/test/measurements.csv --out build-core/sample/ours.csv -q
+# Without the general model, ours needs --model, and says so.
+if build-core/stgf run --method ours --measurements build-core/sample/test/measurements.csv \
+  --out build-core/sample/ours-general.csv 2> build-core/sample/general.err ||
+  ! grep -q "built without its general model" build-core/sample/general.err; then
+  echo "build-core: ours without --model and without the general model did not stop with the reason" >&2
+  exit 1
+fi
 
 echo "== the suite under AddressSanitizer + UndefinedBehaviorSanitizer (scripts/sanitize.sh, build-sanitize/)"
 scripts/sanitize.sh

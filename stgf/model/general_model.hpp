@@ -22,10 +22,12 @@ namespace stgf {
 // How messages name it.
 inline constexpr const char* kGeneralModelName = "stgf's general model (models/general.pt)";
 
-// The bytes of models/general.pt.
+// The bytes of models/general.pt; empty in a build with -DSTGF_GENERAL_MODEL=OFF (its terms are
+// KITTI's, non-commercial: models/README.md).
 std::string_view general_model_bytes();
 
-// The model, read from those bytes and checked as any model file is.
+// The model, read from those bytes and checked as any model file is; std::invalid_argument in a build
+// without it.
 TrainedMotionModel general_model();
 
 }  // namespace stgf
