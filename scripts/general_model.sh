@@ -35,7 +35,8 @@ doc="$out/general-model.md"
   echo "\`stgf train --benchmark A,B\` (8 epochs, as \`stgf reproduce\` trains) on the train and val splits"
   echo "of the benchmarks it names, and scored on the test split of the one it did not see. \`ours"
   echo "(own)\` is the held-out benchmark's own model (docs/results.md; for ethucy trained here the same"
-  echo "way), \`ours (all)\` the model trained on all three. Scored from step 2 on."
+  echo "way), \`ours (all)\` the model trained on all three: the general model shipped with stgf"
+  echo "(models/general.pt, the same recipe and weights; models/README.md). Scored from step 2 on."
 } > "$doc"
 
 score() {  # benchmark, leave-one-out model name, own model path
