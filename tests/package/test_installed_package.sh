@@ -43,6 +43,10 @@ cd "$work"
 "$prefix/bin/stgf" --version
 "$prefix/bin/stgf" dataset mpl --out "$work/mpl" --train 2 --val 1 --test 2 --steps 8 --pedestrians 2 -q
 "$prefix/bin/stgf" run --method wls --measurements "$work/mpl/test/measurements.csv" --out "$work/wls.csv" -q
+# The general model is part of the installed library: ours runs without a model file.
+"$prefix/bin/stgf" run --method ours --measurements "$work/mpl/test/measurements.csv" --out "$work/ours-general.csv" \
+  2> "$work/ours-general.log"
+grep -q "no --model given: stgf's general model" "$work/ours-general.log" || { cat "$work/ours-general.log" >&2; exit 1; }
 if [ "$with_libtorch" = 1 ]; then
   "$prefix/bin/stgf" train --benchmark "$work/mpl" --out "$work/trained.pt" --epochs 1 --threads 1 -q
   "$prefix/bin/stgf" run --method ours --model "$work/trained.pt" --measurements "$work/mpl/test/measurements.csv" \
@@ -54,6 +58,7 @@ fi
 
 if [ -n "${STGF_PYTHON_EXECUTABLE:-}" ]; then
   PYTHONPATH=$(echo "$prefix"/lib/python3*/site-packages) "$STGF_PYTHON_EXECUTABLE" -c \
-    "import stgf; assert stgf.__version__.startswith('0.2'), stgf.__version__; print('python', stgf.__version__)"
+    "import stgf; assert stgf.__version__.startswith('0.2'), stgf.__version__; \
+assert stgf.general_model().metadata['input'] == 'fused'; print('python', stgf.__version__)"
 fi
 echo "installed package: ok"
