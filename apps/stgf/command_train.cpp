@@ -59,7 +59,10 @@ void add_train_command(CLI::App& app) {
       ->check(CLI::NonNegativeNumber);
   command->add_option("--threads", t.threads, "LibTorch threads for training (0: all cores; more are faster only on an idle machine)")->capture_default_str();
   command->add_flag(kPortableFlag, *portable, kPortableFlagHelp);
-  command->add_option("--resume", t.resume, "continue from this model file (weights and optimizer state)");
+  command->add_option("--resume", t.resume,
+                      "continue from this model file (weights and optimizer state), on this --benchmark: the model is "
+                      "validated here first and kept unless an epoch does better (so models/general.pt can be "
+                      "fine-tuned on your data)");
   command->add_flag("!--no-resume-state", t.keep_optimizer_state,
                     "leave the optimizer's state out of the model file: a third the size (a model to ship); it runs "
                     "as before, and --resume from it starts the optimizer afresh");

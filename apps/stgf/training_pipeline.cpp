@@ -326,10 +326,12 @@ void train_model(ModelTraining options) {
   const TrainingReport report = train_motion_model(
       train_graphs, validation_graphs, options.training, working.path(),
       [terminal, &last_shown](const TrainingProgress& p) { show_progress(p, terminal, last_shown); });
-  if (report.resumed_without_optimizer_state) {
-    spdlog::info("{} holds no optimizer state (it was written with --no-resume-state): Adam started afresh from "
-                 "its weights",
-                 options.training.resume);
+  if (report.resumed_validation_error) {
+    spdlog::info("{} as resumed: validation error {:.4f} m on this validation split (the bar for the epochs){}",
+                 options.training.resume, *report.resumed_validation_error,
+                 report.resumed_without_optimizer_state
+                     ? "; it holds no optimizer state (written with --no-resume-state): Adam started afresh"
+                     : "");
   }
   if (report.diverged_epoch != 0) {
     const std::string where = report.diverged_batch > 0 ? fmt::format("batch {}", report.diverged_batch) : "validation";

@@ -200,7 +200,6 @@ TrainingReport train_motion_model(const std::vector<TrainingGraph>& train, const
     resumed_without_optimizer_state = !load_optimizer_state(options.resume, optimizer);
     const nlohmann::json& stored = impl.metadata;
     first_epoch = stored.value("epoch", 0) + 1;
-    best_error = stored.value("best_validation_error", best_error);
   }
 
   TrainingReport report;
@@ -277,7 +276,42 @@ TrainingReport train_motion_model(const std::vector<TrainingGraph>& train, const
     result.nll /= n;
     return result;
   };
-  if (options.resume.empty()) report.initial_validation_nll = validate().nll;
+  // Writes the model as the best so far, with what `validated` measured of it.
+  const auto keep_as_best = [&](int epoch, const Validation& validated) {
+    best_error = validated.error;
+    impl.process_noise_reference = validated.process_noise;
+    impl.process_noise_period = reference_period;
+    nlohmann::json metadata = options.metadata;
+    metadata["epoch"] = epoch;
+    metadata["best_validation_error"] = best_error;
+    metadata["constant_velocity_validation_error"] = report.constant_velocity_validation_error;
+    metadata["learning_rate"] = options.learning_rate;
+    metadata["batch_graphs"] = options.batch_graphs;
+    metadata["seed"] = options.seed;
+    metadata["threads"] = torch::get_num_threads();  // weights are bitwise reproducible for the same count
+    // ... and the same kernels: LibTorch's and OpenBLAS's, chosen by the CPU unless pinned
+    // (stgf train --portable pins them to ATEN_CPU_CAPABILITY=default, OPENBLAS_CORETYPE=Prescott).
+    for (const char* variable : {"ATEN_CPU_CAPABILITY", "OPENBLAS_CORETYPE"}) {
+      const char* value = std::getenv(variable);
+      metadata["kernels"][variable] = value != nullptr ? value : "chosen by the CPU";
+    }
+    metadata["history_noise"] = options.history == HistoryNoise::kObserved ? "observed" : "truth_with_matched_noise";
+    impl.metadata = metadata;
+    impl.save(model_path, metadata, options.keep_optimizer_state ? &optimizer : nullptr);
+    report.best_epoch = epoch;
+    report.process_noise = impl.process_noise_reference;
+    report.process_noise_period = reference_period;
+  };
+  if (options.resume.empty()) {
+    report.initial_validation_nll = validate().nll;
+  } else {
+    // The resumed model is the best so far as it does on THIS validation split: the best error stored
+    // in it may be another benchmark's (a model resumed to fine-tune it on other data), a bar no epoch
+    // need pass, and its metadata (the registration prior, the benchmark) that benchmark's.
+    const Validation resumed = validate();
+    report.resumed_validation_error = resumed.error;
+    if (std::isfinite(resumed.error)) keep_as_best(first_epoch - 1, resumed);
+  }
 
   const auto start = std::chrono::steady_clock::now();
   const auto elapsed = [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(); };
@@ -341,32 +375,7 @@ TrainingReport train_motion_model(const std::vector<TrainingGraph>& train, const
       break;
     }
     report.epochs.push_back(epoch_report);
-    if (epoch_report.validation_error < best_error) {
-      best_error = epoch_report.validation_error;
-      impl.process_noise_reference = validated.process_noise;
-      impl.process_noise_period = reference_period;
-      nlohmann::json metadata = options.metadata;
-      metadata["epoch"] = epoch;
-      metadata["best_validation_error"] = best_error;
-      metadata["constant_velocity_validation_error"] = report.constant_velocity_validation_error;
-      metadata["learning_rate"] = options.learning_rate;
-      metadata["batch_graphs"] = options.batch_graphs;
-      metadata["seed"] = options.seed;
-      metadata["threads"] = torch::get_num_threads();  // weights are bitwise reproducible for the same count
-      // ... and the same kernels: LibTorch's and OpenBLAS's, chosen by the CPU unless pinned
-      // (stgf train --portable pins them to ATEN_CPU_CAPABILITY=default, OPENBLAS_CORETYPE=Prescott).
-      for (const char* variable : {"ATEN_CPU_CAPABILITY", "OPENBLAS_CORETYPE"}) {
-        const char* value = std::getenv(variable);
-        metadata["kernels"][variable] = value != nullptr ? value : "chosen by the CPU";
-      }
-      metadata["history_noise"] =
-          options.history == HistoryNoise::kObserved ? "observed" : "truth_with_matched_noise";
-      impl.metadata = metadata;
-      impl.save(model_path, metadata, options.keep_optimizer_state ? &optimizer : nullptr);
-      report.best_epoch = epoch;
-      report.process_noise = impl.process_noise_reference;
-      report.process_noise_period = reference_period;
-    }
+    if (epoch_report.validation_error < best_error) keep_as_best(epoch, validated);
     if (progress) {
       TrainingProgress p{epoch, first_epoch + options.epochs - 1, batches, batches, epoch_report.train_loss, elapsed(),
                          &report.epochs.back()};

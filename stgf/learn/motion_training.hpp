@@ -74,6 +74,8 @@ struct TrainingReport {
   std::optional<double> initial_validation_nll;  // of the untrained model (none when resuming)
   // Resumed from a file without the optimizer's state (keep_optimizer_state false): Adam started afresh.
   bool resumed_without_optimizer_state = false;
+  // Resuming: the resumed model's validation error on this validation split, before any epoch.
+  std::optional<double> resumed_validation_error;
   int best_epoch = 0;
   double best_validation_error = 0.0;
   double constant_velocity_validation_error = 0.0;  // the same graphs predicted at constant velocity
@@ -87,8 +89,10 @@ struct TrainingReport {
 };
 
 // Trains Φ and writes the best model to `model_path` each time an epoch improves on the best so far
-// (best_epoch stays 0 when none did: nothing written unless resuming, whose file is copied there
-// first). A non-finite loss stops training (diverged_epoch). std::invalid_argument for empty data
+// (best_epoch stays 0 when none did: nothing written). Resuming, the resumed model is validated on
+// `validation` first and written as the best so far (best_epoch: its own last epoch, with this
+// training's metadata), so that a model trained on other data can be fine-tuned on these: an epoch
+// must beat it here, not where it came from. A non-finite loss stops training (diverged_epoch). std::invalid_argument for empty data
 // or bad options. Callers that must not expose a half-trained model give a working path and move
 // it into place at the end (apps/stgf/training_pipeline.cpp).
 TrainingReport train_motion_model(const std::vector<TrainingGraph>& train, const std::vector<TrainingGraph>& validation,

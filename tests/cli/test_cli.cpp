@@ -598,7 +598,17 @@ TEST_F(Cli, TrainThenRunLearnedMethods) {
   const Result fresh =
       stgf("train --benchmark bench --out fresh.pt --input fused --epochs 1 --batch 8 --threads 1 --resume slim.pt");
   ASSERT_EQ(fresh.status, 0) << fresh.err;
-  EXPECT_THAT(fresh.err, HasSubstr("slim.pt holds no optimizer state"));
+  EXPECT_THAT(fresh.err, HasSubstr("it holds no optimizer state"));
+  // Resumed on another benchmark (fine-tuning): validated there first, and the output is calibrated
+  // there, whether or not an epoch beats it.
+  ASSERT_EQ(stgf("dataset synthetic --out other --seed 4 --scenes 2 --objects 3 --views 2 --steps 15 --rate 5").status, 0);
+  const Result tuned =
+      stgf("train --benchmark other --out tuned.pt --input fused --epochs 1 --batch 8 --threads 1 --resume fused.pt");
+  ASSERT_EQ(tuned.status, 0) << tuned.err;
+  EXPECT_THAT(tuned.err, HasSubstr("fused.pt as resumed: validation error"));
+  const std::string tuned_bytes = slurp(directory_ / "tuned.pt");
+  EXPECT_THAT(tuned_bytes, HasSubstr("\"calibrated_on\":\"other/val\""));
+  EXPECT_THAT(tuned_bytes, Not(HasSubstr("\"calibrated_on\":\"bench/val\"")));
   const Result raw = stgf("train --benchmark bench --out raw.pt --input raw --epochs 1 --threads 1");
   ASSERT_EQ(raw.status, 0) << raw.err;
   const std::string m = "--measurements bench/test/measurements.csv";
