@@ -115,8 +115,12 @@ void log_method_report(const std::string& method, const MethodConfig& config, co
                  "keeps the model",
                  method, choice.switched_scenes, choice.scenes, choice.switched_scenes - choice.constant_velocity_scenes);
   }
-  log_registration_prior_scales(method, report.registration_prior_scales, report.scenes_without_prior_scale,
-                                resolve_registration_prior(config.ours, model->metadata(), model_path));
+  if (!report.registration_prior_scales.empty() || report.scenes_without_prior_scale > 0) {
+    // Only `ours` learns the scales, and it has a model.
+    log_registration_prior_scales(method, report.registration_prior_scales, report.scenes_without_prior_scale,
+                                  model != nullptr ? resolve_registration_prior(config.ours, model->metadata(), model_path)
+                                                   : RegistrationPrior{});
+  }
   if (report.rewinds > 0) {
     spdlog::info("{}: {} late row(s) fused in their place in time (arrived after later ones, within the lag window "
                  "of {} s)",
