@@ -16,13 +16,13 @@
 namespace stgf::cli {
 namespace {
 
-// κ̂_t and κ̂_n over the scenes (registration_prior_scale.hpp): how far the views' offsets were from the
-// size the model's calibration expects.
 // The learned scales' quantiles outside which the prior in use does not fit the sensors: on the
 // benchmarks' own validation splits with their own models the medians are 0.8–1.2, the 10th
 // percentiles at least 0.47 and the 90th at most 2.3 (synchronous and asynchronous).
 constexpr double kLowMedian = 0.5, kHighMedian = 2.0, kLowTenth = 0.2, kHighNinetieth = 4.0;
 
+// κ̂_t and κ̂_n over the scenes (registration_prior_scale.hpp): how far the views' offsets were from the
+// size the model's calibration expects, and, when the prior in use does not fit, a bound to set it to.
 void log_registration_prior_scales(const std::string& method, const std::vector<RegistrationPriorScales>& learned,
                                    std::size_t without, const RegistrationPrior& prior) {
   if (!learned.empty()) {
