@@ -27,7 +27,7 @@ train without-cad mpl,ethucy
 train without-ethucy mpl,cad
 # The model on all three is the general model shipped with stgf, by models/README.md's recipe: it must
 # come out byte for byte as models/general.pt (same seed, threads and kernels).
-train all mpl,cad,ethucy --no-resume-state
+train all mpl,cad,ethucy --no-resume-state --weights float16
 if ! cmp -s "$out/all.pt" models/general.pt; then
   echo "$out/all.pt differs from models/general.pt: the shipped model is not what its recipe gives" >&2
   exit 1

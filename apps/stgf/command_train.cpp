@@ -66,6 +66,11 @@ void add_train_command(CLI::App& app) {
   command->add_flag("!--no-resume-state", t.keep_optimizer_state,
                     "leave the optimizer's state out of the model file: a third the size (a model to ship); it runs "
                     "as before, and --resume from it starts the optimizer afresh");
+  command->add_option("--weights", options->weights, "how the model file stores the weights: float32, or float16 "
+                      "(half the file; the network trains in float32, and the file's rounded weights are the model, "
+                      "calibrated and run as such)")
+      ->check(CLI::IsMember({"float32", "float16"}))
+      ->capture_default_str();
   command->add_option("--history", t.shape.history_length, "history intervals Φ sees")
       ->capture_default_str()
       ->check(CLI::PositiveNumber);

@@ -271,6 +271,7 @@ void train_model(ModelTraining options) {
                        (options.history_noise == "auto" && options.input == "fused" && with_truth);
   options.training.history = matched ? HistoryNoise::kTruthWithMatchedNoise : HistoryNoise::kObserved;
   options.training.rotate = options.rotate;
+  options.training.weights_float16 = options.weights == "float16";
   // One benchmark is recorded as its folder, several as the list.
   const nlohmann::json benchmark_record =
       options.benchmarks.size() == 1 ? nlohmann::json(options.benchmarks[0]) : nlohmann::json(options.benchmarks);
@@ -279,6 +280,7 @@ void train_model(ModelTraining options) {
                                {"strides", options.strides},
                                {"supervision", with_truth ? "truth" : "measurements"}};
   if (options.rotate) options.training.metadata["rotate"] = true;
+  if (options.training.weights_float16) options.training.metadata["weights"] = "float16";
   if (options.strides.empty()) throw std::invalid_argument("--strides needs at least one stride");
   const int history = options.training.shape.history_length + 1;  // positions = intervals + 1
   const auto start = std::chrono::steady_clock::now();

@@ -41,6 +41,7 @@ struct ModelTraining {
   // Φ also learns from the training scenes seen at 1/stride of their frame rate, for each stride
   // here (1 = as recorded), so it predicts at lower frame rates too.
   std::vector<int> strides = {1, 2, 3};
+  std::string weights = "float32";  // how the model file stores the weights: float32 | float16
   bool rotate = false;  // turn each training graph by a random heading every epoch (MotionTrainingOptions::rotate)
   // Q also calibrated at intervals up to this many seconds (calibrate_process_noise_intervals), so that
   // tracks coast across missed frames and low frame rates; 0: off.

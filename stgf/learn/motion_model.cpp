@@ -104,14 +104,53 @@ namespace {
 
 // The network's weights by name, in its parameter order, as the LibTorch-free side reads them
 // (trained_motion_model.hpp).
-NamedWeights named_weights(const detail::MotionNetwork& network) {
+// With `float16`, the values as a file stored with float16 weights gives them back.
+NamedWeights named_weights(const detail::MotionNetwork& network, bool float16 = false) {
   NamedWeights weights;
   for (const auto& item : network->named_parameters()) {
-    const torch::Tensor values = item.value().detach().contiguous().to(torch::kFloat32);
+    torch::Tensor values = item.value().detach().contiguous();
+    if (float16) values = values.to(torch::kHalf);
+    values = values.to(torch::kFloat32);
     weights.names.push_back(item.key());
     weights.values.emplace_back(values.data_ptr<float>(), values.data_ptr<float>() + values.numel());
   }
   return weights;
+}
+
+// Module::save, with every parameter written as float16 (half the file; the network itself untouched).
+void save_as_float16(const torch::nn::Module& module, torch::serialize::OutputArchive& archive) {
+  for (const auto& parameter : module.named_parameters(/*recurse=*/false)) {
+    archive.write(parameter.key(), parameter.value().detach().to(torch::kHalf));
+  }
+  for (const auto& buffer : module.named_buffers(/*recurse=*/false)) archive.write(buffer.key(), buffer.value(), true);
+  for (const auto& child : module.named_children()) {
+    torch::serialize::OutputArchive child_archive(archive.compilation_unit());
+    save_as_float16(*child.value(), child_archive);
+    archive.write(child.key(), child_archive);
+  }
+}
+
+// Module::load for weights stored as float32 or float16 (LibTorch's own would turn a float32 parameter
+// into a float16 one): each stored tensor is copied into its parameter, converted. True when any
+// was stored as float16.
+bool load_weights(torch::nn::Module& module, torch::serialize::InputArchive& archive) {
+  bool float16 = false;
+  torch::NoGradGuard no_grad;
+  const auto copy_into = [&](const std::string& key, torch::Tensor& into, bool is_buffer) {
+    torch::Tensor stored;
+    archive.read(key, stored, is_buffer);
+    if (stored.sizes() != into.sizes()) throw std::runtime_error("weight " + key + " has the wrong shape");
+    float16 = float16 || stored.scalar_type() == torch::kHalf;
+    into.copy_(stored);
+  };
+  for (auto& parameter : module.named_parameters(/*recurse=*/false)) copy_into(parameter.key(), parameter.value(), false);
+  for (auto& buffer : module.named_buffers(/*recurse=*/false)) copy_into(buffer.key(), buffer.value(), true);
+  for (const auto& child : module.named_children()) {
+    torch::serialize::InputArchive child_archive;
+    archive.read(child.key(), child_archive);
+    float16 = load_weights(*child.value(), child_archive) || float16;
+  }
+  return float16;
 }
 
 // Adam's state, keyed by parameter index. (LibTorch's Optimizer::save keys it by each parameter's
@@ -176,9 +215,13 @@ void MotionModel::Impl::save(const std::string& path, const nlohmann::json& extr
   archive.write("format", c10::IValue(std::string(kMotionModelFormat)));
   archive.write("version", c10::IValue(static_cast<int64_t>(kMotionModelVersion)));
   archive.write("config", c10::IValue(config_text));
-  archive.write("checksum", c10::IValue(model_checksum(config_text, shape, named_weights(network))));
+  archive.write("checksum", c10::IValue(model_checksum(config_text, shape, named_weights(network, weights_float16))));
   torch::serialize::OutputArchive network_archive;
-  network->save(network_archive);
+  if (weights_float16) {
+    save_as_float16(*network, network_archive);
+  } else {
+    network->save(network_archive);
+  }
   archive.write("network", network_archive);
   if (optimizer != nullptr) {
     torch::serialize::OutputArchive optimizer_archive;
@@ -253,7 +296,9 @@ MotionModel MotionModel::load_checked(const std::string& path) {
   try {
     torch::serialize::InputArchive network_archive;
     archive.read("network", network_archive);
-    impl->network->load(network_archive);
+    impl->weights_float16 = load_weights(*impl->network, network_archive);
+  } catch (const std::runtime_error& error) {
+    throw InputError(path, 0, std::string("model weights are unreadable: ") + first_line(error.what()));
   } catch (const c10::Error& error) {
     throw InputError(path, 0, std::string("model weights are missing or unreadable: ") + error.what_without_backtrace());
   }
@@ -281,7 +326,7 @@ std::shared_ptr<const MotionInference> MotionModel::Impl::inference() const {
   for (const torch::Tensor& parameter : network->parameters()) version += static_cast<std::int64_t>(parameter._version());
   const std::lock_guard lock(inference_mutex_);
   if (!inference_ || version != inference_weights_version_) {
-    inference_ = std::make_shared<const MotionInference>(inference_weights(shape, named_weights(network)));
+    inference_ = std::make_shared<const MotionInference>(inference_weights(shape, named_weights(network, weights_float16)));
     inference_weights_version_ = version;
   }
   return inference_;
@@ -296,7 +341,7 @@ TrainedMotionModel MotionModel::trained() const {
   return TrainedMotionModel(MotionModelSettings{impl_->shape, impl_->normalisation, impl_->process_noise_reference,
                                                 impl_->process_noise_period, impl_->metadata,
                                                 impl_->process_noise_intervals, impl_->coasting_process_noise},
-                            named_weights(impl_->network));
+                            named_weights(impl_->network, impl_->weights_float16));
 }
 
 Matrix3d MotionModel::process_noise(double dt) const {

@@ -81,6 +81,9 @@ struct MotionModel::Impl {
   std::vector<IntervalNoise> process_noise_intervals;               // Q beyond Δt_ref (may be empty)
   std::vector<IntervalNoise> coasting_process_noise;                // Q of a coasting track (may be empty)
   nlohmann::json metadata = nlohmann::json::object();
+  // The file stores the weights as float16 (rounded to 11 significant bits: half the file). The
+  // network trains in float32 either way; the file, and so every use of it, holds the rounded weights.
+  bool weights_float16 = false;
 
   // Writes the model file; `optimizer` (may be null) is stored too, for resuming training.
   void save(const std::string& path, const nlohmann::json& extra_metadata, torch::optim::Optimizer* optimizer) const;

@@ -187,6 +187,7 @@ TrainingReport train_motion_model(const std::vector<TrainingGraph>& train, const
                           ? MotionModel(options.shape, measure_normalisation(train), options.seed)
                           : MotionModel::load(options.resume);
   MotionModel::Impl& impl = model.impl();
+  impl.weights_float16 = options.weights_float16;
   torch::optim::Adam optimizer(impl.network->parameters(), torch::optim::AdamOptions(options.learning_rate));
   int first_epoch = 1;
   std::error_code ignored_error;

@@ -45,6 +45,10 @@ struct MotionTrainingOptions {
   // false: the model file leaves out Adam's state (a third the size: what a model shipped to users
   // needs); it runs as before, and resuming from it starts Adam afresh.
   bool keep_optimizer_state = true;
+  // true: the model file stores the weights as float16 (half its size: what a model shipped to users
+  // needs). The network trains in float32; the file, and every run from it, has the rounded weights,
+  // and Q and the registration prior are calibrated with them.
+  bool weights_float16 = false;
   HistoryNoise history = HistoryNoise::kObserved;
   // Each training graph turned about the vertical axis by an angle drawn uniformly every epoch, so
   // that Φ learns motion whatever the world frame's heading (the validation graphs stay as given).

@@ -3,6 +3,7 @@
 
 #include <array>
 #include <bit>
+#include <cmath>
 #include <cstring>
 #include <limits>
 #include <map>
@@ -86,6 +87,28 @@ Records zip_records(const std::string& bytes) {
 }
 
 // A value on the pickle machine's stack.
+// An IEEE 754 binary16 value as the float it is exactly (every half is a float): sign, 5-bit exponent
+// (bias 15), 10-bit fraction; subnormals, infinities and NaN included.
+float float_from_half(std::uint16_t bits) {
+  const std::uint32_t sign = static_cast<std::uint32_t>(bits & 0x8000U) << 16;
+  const std::uint32_t exponent = (bits >> 10) & 0x1FU;
+  const std::uint32_t fraction = bits & 0x3FFU;
+  float magnitude = 0.0F;
+  if (exponent == 0) {
+    magnitude = std::ldexp(static_cast<float>(fraction), -24);  // subnormal: fraction · 2⁻²⁴
+  } else if (exponent == 31) {
+    magnitude = fraction == 0 ? std::numeric_limits<float>::infinity() : std::numeric_limits<float>::quiet_NaN();
+  } else {
+    magnitude = std::ldexp(static_cast<float>(fraction | 0x400U), static_cast<int>(exponent) - 25);
+  }
+  std::uint32_t out = 0;
+  std::memcpy(&out, &magnitude, 4);
+  out |= sign;
+  float result = 0.0F;
+  std::memcpy(&result, &out, 4);
+  return result;
+}
+
 struct Node;
 using NodePtr = std::shared_ptr<Node>;
 struct Node {
@@ -98,6 +121,7 @@ struct Node {
   std::vector<NodePtr> items;  // a tuple's or list's items; a dict's keys and values, alternating;
                                // an object's state (none until BUILD); a tensor's storage
   std::vector<std::int64_t> sizes, strides;  // a tensor's
+  bool half = false;                         // a storage of float16 values (else float32)
 };
 
 NodePtr make(Node::Kind kind) {
@@ -274,8 +298,11 @@ class ArchivePickle {
               a[4]->kind != Node::Kind::kInt) {
             refuse("data.pkl has a persistent id that is not a tensor storage");
           }
-          if (a[1]->text != "torch FloatStorage") refuse("a tensor is stored as " + quoted(a[1]->text) + ", not as float32");
+          if (a[1]->text != "torch FloatStorage" && a[1]->text != "torch HalfStorage") {
+            refuse("a tensor is stored as " + quoted(a[1]->text) + ", not as float32 or float16");
+          }
           NodePtr storage = make(Node::Kind::kStorage);
+          storage->half = a[1]->text == "torch HalfStorage";
           storage->text = a[2]->text;
           storage->integer = a[4]->integer;
           stack_.push_back(std::move(storage));
@@ -347,7 +374,8 @@ class ArchivePickle {
     if (found == records_.end()) refuse("tensor storage " + quoted(storage.text) + " is not in the archive");
     if (!found->second) refuse("tensor storage " + quoted(storage.text) + " is compressed (not written by stgf train)");
     const std::string_view record = *found->second;
-    if (storage.integer < 0 || record.size() != static_cast<std::uint64_t>(storage.integer) * sizeof(float)) {
+    const std::int64_t element_size = storage.half ? 2 : 4;
+    if (storage.integer < 0 || record.size() != static_cast<std::uint64_t>(storage.integer * element_size)) {
       refuse("tensor storage " + quoted(storage.text) + " has the wrong size");
     }
     if (node.sizes.size() != node.strides.size()) refuse("a tensor has as many strides as sizes");
@@ -365,8 +393,16 @@ class ArchivePickle {
       refuse("a tensor lies outside its storage");
     }
     result.values.resize(static_cast<std::size_t>(count));
-    std::memcpy(result.values.data(), record.data() + node.integer * static_cast<std::int64_t>(sizeof(float)),
-                result.values.size() * sizeof(float));
+    const char* first = record.data() + node.integer * element_size;
+    if (storage.half) {
+      for (std::size_t k = 0; k < result.values.size(); ++k) {
+        std::uint16_t bits = 0;
+        std::memcpy(&bits, first + 2 * k, 2);
+        result.values[k] = float_from_half(bits);
+      }
+    } else {
+      std::memcpy(result.values.data(), first, result.values.size() * sizeof(float));
+    }
     return result;
   }
 

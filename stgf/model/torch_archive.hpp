@@ -10,11 +10,13 @@
 //   __torch__.… Module        an archive (or a nested archive: OutputArchive::write(key, archive))
 //                             whose BUILD state is a dict of its values by key
 //   torch._utils _rebuild_tensor_v2(storage, offset, sizes, strides, requires_grad, hooks)   a tensor
-//   torch FloatStorage (a persistent id: "storage", type, key, device, size)  its storage
+//   torch FloatStorage / HalfStorage (a persistent id: "storage", type, key, device, size)  its storage
+//                             of float32 / float16 values (a model stored with `stgf train
+//                             --weights float16`); float16 values are read as the floats they are
 //   collections OrderedDict() an empty dict (the tensor's backward hooks)
 // Anything else — another opcode, a ZIP64 archive, a record outside the file, a stored record failing
 // its CRC-32, a compressed pickle or tensor (LibTorch compresses only its TorchScript code, which is
-// not read), a tensor that is not float32, contiguous and inside its storage — is refused with the
+// not read), a tensor that is not float32 or float16, contiguous and inside its storage — is refused with the
 // reason (std::invalid_argument), never read past. Nothing is executed: the names are matched, not
 // imported.
 
@@ -26,7 +28,7 @@
 
 namespace stgf {
 
-// A float32 tensor, its values in row-major order.
+// A tensor, its values as float32 in row-major order.
 struct ArchiveTensor {
   std::vector<std::int64_t> sizes;
   std::vector<float> values;

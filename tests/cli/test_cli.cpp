@@ -595,6 +595,15 @@ TEST_F(Cli, TrainThenRunLearnedMethods) {
   ASSERT_EQ(stgf("run --method ours --model fused.pt" + test_rows + " --out ours-fused.csv").status, 0);
   ASSERT_EQ(stgf("run --method ours --model slim.pt" + test_rows + " --out ours-slim.csv").status, 0);
   EXPECT_EQ(slurp(directory_ / "ours-fused.csv"), slurp(directory_ / "ours-slim.csv"));
+  // --weights float16: smaller still, its metadata says so, and it runs (its weights rounded, so its
+  // estimates are close to, not the same as, the float32 model's).
+  const Result half = stgf(
+      "train --benchmark bench --out half.pt --input fused --epochs 2 --batch 8 --threads 1 --no-resume-state --weights float16");
+  ASSERT_EQ(half.status, 0) << half.err;
+  EXPECT_LT(fs::file_size(directory_ / "half.pt"), fs::file_size(directory_ / "slim.pt"));
+  EXPECT_THAT(slurp(directory_ / "half.pt"), HasSubstr("\"weights\":\"float16\""));
+  ASSERT_EQ(stgf("run --method ours --model half.pt" + test_rows + " --out ours-half.csv").status, 0);
+  EXPECT_NE(stgf("train --benchmark bench --out bad.pt --epochs 1 --weights float8").status, 0);
   const Result fresh =
       stgf("train --benchmark bench --out fresh.pt --input fused --epochs 1 --batch 8 --threads 1 --resume slim.pt");
   ASSERT_EQ(fresh.status, 0) << fresh.err;

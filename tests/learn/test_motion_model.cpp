@@ -401,6 +401,64 @@ TEST(MotionTraining, SameSeedSameModel) {
   fs::remove(b);
 }
 
+// A model stored with float16 weights (stgf train --weights float16): about half the file of the same
+// training stored as float32; its weights are the float32 ones rounded to float16; LibTorch, the
+// LibTorch-free reader and the trained model in memory all run those rounded weights, bit for bit;
+// saving it again (Q recalibrated) keeps them float16; and training resumes from it.
+TEST(MotionTraining, Float16WeightsAreHalfTheFileAndTheSameModelEverywhere) {
+  const std::vector<TrainingGraph> train = turning_graphs(40, 21);
+  const std::vector<TrainingGraph> validation = turning_graphs(10, 22);
+  MotionTrainingOptions options;
+  options.shape = tiny_shape();
+  options.shape.hidden = 32;  // enough weights for the file's size to be mostly theirs
+  options.epochs = 2;
+  options.batch_graphs = 8;
+  options.threads = 1;
+  options.seed = 9;
+  options.keep_optimizer_state = false;
+  const std::string full = scratch("full.pt").string(), half = scratch("half.pt").string();
+  train_motion_model(train, validation, options, full);
+  options.weights_float16 = true;
+  train_motion_model(train, validation, options, half);
+  const std::uintmax_t full_size = fs::file_size(full), half_size = fs::file_size(half);
+  EXPECT_LT(static_cast<double>(half_size), 0.7 * static_cast<double>(full_size)) << full_size << " → " << half_size;
+
+  const MotionModel full_loaded = MotionModel::load(full);
+  const MotionModel half_loaded = MotionModel::load(half);
+  const auto full_weights = full_loaded.impl().network->parameters();
+  const auto half_weights = half_loaded.impl().network->parameters();
+  ASSERT_EQ(full_weights.size(), half_weights.size());
+  double largest_change = 0.0;
+  for (std::size_t k = 0; k < full_weights.size(); ++k) {
+    EXPECT_EQ(half_weights[k].scalar_type(), torch::kFloat32);  // run in float32
+    EXPECT_TRUE(torch::equal(half_weights[k], full_weights[k].to(torch::kHalf).to(torch::kFloat32))) << k;
+    largest_change = std::max(largest_change, (half_weights[k] - full_weights[k]).abs().max().item<double>());
+  }
+  EXPECT_GT(largest_change, 0.0);  // the rounding did happen
+
+  const std::vector<MotionGraph> graphs = graphs_only(validation);
+  const auto expected = TrainedMotionModel::load(half).forecast(graphs);
+  for (const auto& forecasts : {half_loaded.forecast(graphs), half_loaded.trained().forecast(graphs)}) {
+    for (std::size_t g = 0; g < expected.size(); ++g) {
+      for (std::size_t i = 0; i < expected[g].size(); ++i) EXPECT_EQ(forecasts[g][i].velocity, expected[g][i].velocity);
+    }
+  }
+
+  const std::string again = scratch("again.pt").string();
+  fs::copy_file(half, again);
+  save_recalibrated_model(half_loaded, again, half_loaded.metadata());
+  EXPECT_LT(fs::file_size(again), fs::file_size(full));
+  const auto again_weights = MotionModel::load(again).impl().network->parameters();
+  for (std::size_t k = 0; k < half_weights.size(); ++k) EXPECT_TRUE(torch::equal(again_weights[k], half_weights[k])) << k;
+
+  options.resume = half;
+  options.epochs = 1;
+  const std::string resumed = scratch("resumed.pt").string();
+  EXPECT_NO_THROW(train_motion_model(train, validation, options, resumed));
+  EXPECT_TRUE(std::isfinite(MotionModel::load(resumed).predict(graphs)[0][0].x()));
+  for (const std::string& path : {full, half, again, resumed}) fs::remove(path);
+}
+
 // The largest stored record of a zip archive (a PyTorch archive stores records uncompressed): its
 // offset and size in the file, from the central directory (PK\1\2 entries: size at +20, name,
 // extra and comment lengths at +28, +30, +32, the local header's offset at +42).

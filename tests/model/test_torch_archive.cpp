@@ -4,7 +4,9 @@
 
 #include "stgf/model/torch_archive.hpp"
 
+#include <cmath>
 #include <cstring>
+#include <limits>
 
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
@@ -87,6 +89,29 @@ TEST(TorchArchive, ReadsValuesTensorsAndNestedArchives) {
   EXPECT_EQ(archive.find("missing"), nullptr);
 }
 
+// A float16 storage (stgf train --weights float16) is read as the floats its values are exactly:
+// normal, subnormal, signed zero, the largest half, infinity.
+TEST(TorchArchive, ReadsFloat16StoragesAsTheFloatsTheyAre) {
+  const std::vector<std::uint16_t> halves = {0x3C00, 0xC000, 0x3555, 0x0001, 0x03FF, 0x8000, 0x7BFF, 0x7C00};
+  const std::vector<float> expected = {1.0F, -2.0F, 0.333251953125F, 5.9604644775390625e-8F,
+                                       6.0975551605224609375e-5F, -0.0F, 65504.0F,
+                                       std::numeric_limits<float>::infinity()};
+  std::string storage(2 * halves.size(), '\0');
+  std::memcpy(storage.data(), halves.data(), storage.size());
+  const std::string body = module({{"w", tensor("0", 8, 0, {2, 4}, {4, 1}, "HalfStorage")}});
+  const TorchArchive archive =
+      TorchArchive::parse(zip_of({{"archive/data.pkl", pickle(body)}, {"archive/data/0", storage}}));
+  const auto& weight = std::get<ArchiveTensor>(*archive.find("w"));
+  ASSERT_EQ(weight.values.size(), expected.size());
+  for (std::size_t k = 0; k < expected.size(); ++k) {
+    EXPECT_EQ(weight.values[k], expected[k]) << k;
+    EXPECT_EQ(std::signbit(weight.values[k]), std::signbit(expected[k])) << k;
+  }
+  // Its size is counted in halves: 8 of them are 16 bytes, not 32.
+  EXPECT_THAT(refusal(zip_of({{"archive/data.pkl", pickle(body)}, {"archive/data/0", storage + storage}})),
+              HasSubstr("wrong size"));
+}
+
 TEST(TorchArchive, RefusesWhatAModelFileNeverHolds) {
   const std::string storage = floats({1, 2, 3, 4});
   const auto archive_with = [&](const std::string& body) {
@@ -105,7 +130,7 @@ TEST(TorchArchive, RefusesWhatAModelFileNeverHolds) {
   EXPECT_THAT(refusal(archive_with(module({{"t", tensor("0", 5, 0, {2, 2}, {2, 1})}}))), HasSubstr("wrong size"));
   EXPECT_THAT(refusal(archive_with(module({{"t", tensor("1", 4, 0, {2, 2}, {2, 1})}}))), HasSubstr("not in the archive"));
   EXPECT_THAT(refusal(archive_with(module({{"t", tensor("0", 4, 0, {2, 2}, {2, 1}, "DoubleStorage")}}))),
-              HasSubstr("not as float32"));
+              HasSubstr("not as float32 or float16"));
   EXPECT_THAT(refusal(archive_with(module({{"a", small_int(1)}, {"a", small_int(2)}}))), HasSubstr("'a' is there twice"));
   EXPECT_THAT(refusal(archive_with(small_int(1))), HasSubstr("does not hold an archive"));
   EXPECT_THAT(refusal(archive_with("0")), HasSubstr("opcode 0x30"));
