@@ -41,7 +41,7 @@ for target in "${text_targets[@]}"; do
   corpus=build-fuzz/corpus/$target
   mkdir -p "$corpus"
   [ -d "fuzz/corpus/$target" ] && cp -n fuzz/corpus/"$target"/* "$corpus"/ 2>/dev/null || true
-  [ "$target" = trained_model ] && cp -n tests/model/data/*.pt "$corpus"/ 2>/dev/null || true
+  [ "$target" = trained_model ] && cp -n tests/model/data/*.pt models/general.pt "$corpus"/ 2>/dev/null || true
   echo "== fuzz_$target for ${seconds} s"
   # A fixed seed and a fixed number of inputs (about SECONDS on this machine): the same run every
   # time, so CI does not turn red at random; longer runs explore further.
