@@ -2,7 +2,6 @@
 #include "stgf/core/view_registration.hpp"
 
 #include <cmath>
-#include <Eigen/Eigenvalues>
 #include <stdexcept>
 #include <string_view>
 #include <vector>
@@ -10,29 +9,20 @@
 namespace stgf {
 using Matrix36 = Eigen::Matrix<double, 3, 6>;
 
-Matrix3d symmetric_square_root(const Matrix3d& a) {
-  // With μ_i = √λ_i the roots of A's eigenvalues and I₁ = Σ μ_i, I₂ = Σ_{i<j} μ_i μ_j, I₃ = Π μ_i,
-  // Cayley–Hamilton for R^½ gives (Franca 1989)
-  //     R^½ = [ −A² + (I₁² − I₂) A + I₁ I₃ I ] / (I₁ I₂ − I₃),   I₁ I₂ − I₃ = Π_{i<j} (μ_i + μ_j) > 0,
-  // which needs only the eigenvalues (well conditioned for a symmetric matrix, and in closed form for
-  // 3×3), never divides by their differences, and so holds for an isotropic R too. Called for every
-  // measurement, several times: about as cheap as the Cholesky factor it replaced.
-  Eigen::SelfAdjointEigenSolver<Matrix3d> eigen;
-  eigen.computeDirect(a, Eigen::EigenvaluesOnly);
-  const Eigen::Vector3d mu = eigen.eigenvalues().cwiseMax(0.0).cwiseSqrt();
-  const double i1 = mu.sum();
-  const double i2 = mu[0] * mu[1] + mu[1] * mu[2] + mu[2] * mu[0];
-  const double i3 = mu.prod();
-  Matrix3d root = (i1 * i1 - i2) * a - a * a;
-  root.diagonal().array() += i1 * i3;
-  root /= i1 * i2 - i3;
-  return 0.5 * (root + root.transpose());
-}
-
 Matrix36 offset_jacobian(const Matrix3d& measurement_covariance) {
+  // [I₃ L], L the Cholesky factor of R, written out (called for every measurement, several times), in
+  // the order of operations of Eigen's LLT, which it replaces: the same bits.
+  const Matrix3d& a = measurement_covariance;
+  const double l00 = std::sqrt(a(0, 0));
+  const double l10 = a(1, 0) / l00;
+  const double l20 = a(2, 0) / l00;
+  const double l11 = std::sqrt(a(1, 1) - l10 * l10);
+  const double l21 = (a(2, 1) - l20 * l10) / l11;
+  const double l22 = std::sqrt(a(2, 2) - (l20 * l20 + l21 * l21));
   Matrix36 jacobian;
-  jacobian.leftCols<3>().setIdentity();
-  jacobian.rightCols<3>() = symmetric_square_root(measurement_covariance);
+  jacobian << 1, 0, 0, l00, 0, 0,  //
+      0, 1, 0, l10, l11, 0,        //
+      0, 0, 1, l20, l21, l22;
   return jacobian;
 }
 

@@ -6,14 +6,12 @@
 // and weights a biased view as if it were exact.
 //
 // Model. View u's measurement of an object at p is
-//     z = p + H_u β_u + e,   e ~ N(0, R),   H_u = [ I₃  R^½ ]  (R^½ the symmetric square root),
+//     z = p + H_u β_u + e,   e ~ N(0, R),   H_u = [ I₃  L ],  L Lᵀ = R (lower Cholesky factor),
 // with β_u = (t_u, δ_u) ∈ R⁶ constant over a scene:
 //   t_u  a translation in the world frame (a GPS or extrinsic position error);
 //   δ_u  an offset in the view's own noise units (a small rotation of a camera or range sensor moves
 //        every measurement by about the same angle / the same pixels, which reaches the world through
-//        the same Jacobian that shapes R, so it grows with range exactly as R does). The symmetric root
-//        (not a Cholesky factor, which depends on the order of the world axes) keeps the model
-//        rotation-equivariant: turning the world frame turns R^½, and so the offsets, with it.
+//        the same Jacobian that shapes R, so it grows with range exactly as R does).
 // Prior: t_u ~ N(0, diag(σ_x², σ_y², σ_z²)) and δ_u ~ N(0, α² I₃), independent across views
 // (RegistrationPrior; calibrate it with registration_calibration.hpp).
 //
@@ -59,10 +57,7 @@ struct RegistrationPrior {
   Eigen::Matrix<double, 6, 6> covariance() const;
 };
 
-// R^½: the symmetric positive semi-definite square root of a covariance, R^½ R^½ = R.
-Matrix3d symmetric_square_root(const Matrix3d& covariance);
-
-// H = [I₃  R^½]: how a view's offset β = (t, δ) moves a measurement with covariance R.
+// H = [I₃  L] with L Lᵀ = R: how a view's offset β = (t, δ) moves a measurement with covariance R.
 Eigen::Matrix<double, 3, 6> offset_jacobian(const Matrix3d& measurement_covariance);
 
 class ViewRegistration {

@@ -7,7 +7,6 @@
 #include <gtest/gtest.h>
 
 #include <Eigen/Cholesky>
-#include <Eigen/Eigenvalues>
 #include <cmath>
 #include <random>
 #include <stdexcept>
@@ -46,7 +45,7 @@ Simulated simulate(const RegistrationPrior& prior, int scenes, int views, int ro
         const Matrix3d r = testing::random_spd(rng, scale, 10.0);
         const Matrix3d factor = r.llt().matrixL();
         const Vector3d noise(normal(rng), normal(rng), normal(rng));
-        const Vector3d z = truth + offset.head<3>() + Eigen::SelfAdjointEigenSolver<Matrix3d>(r).operatorSqrt() * offset.tail<3>() + factor * noise;
+        const Vector3d z = truth + offset.head<3>() + factor * offset.tail<3>() + factor * noise;
         data.measurements.push_back(Measurement{"scene" + std::to_string(scene), 0.1 * row,
                                                 "view" + std::to_string(view), "o" + std::to_string(row),
                                                 Gaussian3::from_covariance(z, r), std::nullopt});
@@ -109,7 +108,7 @@ std::vector<Measurement> simulate_shared(const RegistrationPrior& prior, int sce
           const Matrix3d r = testing::random_spd(rng, scale, 10.0);
           const Matrix3d factor = r.llt().matrixL();
           const Vector3d noise(normal(rng), normal(rng), normal(rng));
-          const Vector3d z = truth + offset.head<3>() + Eigen::SelfAdjointEigenSolver<Matrix3d>(r).operatorSqrt() * offset.tail<3>() + factor * noise;
+          const Vector3d z = truth + offset.head<3>() + factor * offset.tail<3>() + factor * noise;
           const double t = 0.1 * time + (own_clocks ? 0.03 * view : 0.0);
           measurements.push_back(Measurement{"scene" + std::to_string(scene), t, "view" + std::to_string(view),
                                              "o" + std::to_string(object), Gaussian3::from_covariance(z, r),
