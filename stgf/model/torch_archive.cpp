@@ -86,7 +86,6 @@ Records zip_records(const std::string& bytes) {
   return records;
 }
 
-// A value on the pickle machine's stack.
 // An IEEE 754 binary16 value as the float it is exactly (every half is a float): sign, 5-bit exponent
 // (bias 15), 10-bit fraction; subnormals, infinities and NaN included.
 float float_from_half(std::uint16_t bits) {
@@ -101,14 +100,10 @@ float float_from_half(std::uint16_t bits) {
   } else {
     magnitude = std::ldexp(static_cast<float>(fraction | 0x400U), static_cast<int>(exponent) - 25);
   }
-  std::uint32_t out = 0;
-  std::memcpy(&out, &magnitude, 4);
-  out |= sign;
-  float result = 0.0F;
-  std::memcpy(&result, &out, 4);
-  return result;
+  return std::bit_cast<float>(std::bit_cast<std::uint32_t>(magnitude) | sign);
 }
 
+// A value on the pickle machine's stack.
 struct Node;
 using NodePtr = std::shared_ptr<Node>;
 struct Node {
@@ -375,7 +370,8 @@ class ArchivePickle {
     if (!found->second) refuse("tensor storage " + quoted(storage.text) + " is compressed (not written by stgf train)");
     const std::string_view record = *found->second;
     const std::int64_t element_size = storage.half ? 2 : 4;
-    if (storage.integer < 0 || record.size() != static_cast<std::uint64_t>(storage.integer * element_size)) {
+    if (storage.integer < 0 ||
+        record.size() != static_cast<std::uint64_t>(storage.integer) * static_cast<std::uint64_t>(element_size)) {
       refuse("tensor storage " + quoted(storage.text) + " has the wrong size");
     }
     if (node.sizes.size() != node.strides.size()) refuse("a tensor has as many strides as sizes");
