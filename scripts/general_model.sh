@@ -95,14 +95,14 @@ cat >> "$doc" <<'NOTES'
 
 The model trained on all three ships with stgf (models/general.pt: what `ours` runs without
 `--model`), with its validation numbers in models/README.md; it is not yet honest everywhere (below). Left out of training, every benchmark is now scored
-better by the model of the other two than by `wls` and `mmt`: mpl 0.0504 m against 0.0555 (it
+better by the model of the other two than by `wls` and `mmt`: mpl 0.0492 m against 0.0555 (it
 was 0.0873, behind them, before the registration prior learned two scales: design §1.7), cad
-0.4304 against 0.4632, ethucy 0.0946 against 0.1032. But not always honestly: NEES 2.3 on mpl
+0.4273 against 0.4632, ethucy 0.0946 against 0.1032. But not always honestly: NEES 2.35 on mpl
 (a little underconfident), 22 on cad (far overconfident), 2.7 on ethucy. Trained on all three,
-the model is within 15 % of each benchmark's own on mpl, 4 % on cad and 9 % on ethucy, but
+the model is within 15 % of each benchmark's own on mpl, 3 % on cad and 9 % on ethucy, but
 overconfident on cad (NEES 7.3). One curve of Q serves data of three rates (its reference interval is mpl's 0.143 s),
 and on the mixed validation split constant velocity predicts as well as Φ from the second stride on
-(0.0765 against 0.0766 m at 0.29 s, in `all-train.log`), so the model hands ethucy's histories
+(0.0766 against 0.0767 m at 0.29 s, in `all-train.log`), so the model hands ethucy's histories
 (0.4 s apart) to constant velocity. What the table of calibrations shows is why one model does not
 fit all:
 
@@ -117,14 +117,14 @@ fit all:
   uncertainty, not one matrix, is the next step.
 - **The registration prior is one shape for every sensor.** The cameras' offsets are a few
   centimetres but grow with their noise, the vehicles' GPS errors 0.3 m whatever their noise:
-  calibrated on both, 0.18–0.2 m with α 0.08 (without mpl). With one scale κ on that prior, mpl got
+  calibrated on both, 0.18–0.2 m with α 0.1 (without mpl). With one scale κ on that prior, mpl got
   κ ≈ 0.9, the compromise between translations that wanted less and offsets in units of the noise
   that wanted more, and lost the cameras' R-weighting (0.0873 m). Learned as two scales, κ_t median
-  0.16 and κ_n 13 there (the logs above), and on cad κ_t 9.7 and κ_n 4.1. Each scene's prior holds
+  0.16 and κ_n 9.7 there (the logs above), and on cad κ_t 10 and κ_n 4.0. Each scene's prior holds
   its scales within a few times of 1, so on cad they stay short of what the offsets need (NEES 22);
   `stgf run` then says that the prior does not fit and which way to set it (the last line of each
-  log above: on cad, translation σ at least 0.11 m and α at least 0.89, where cad's own calibration
-  is 0.32 m and 0.96; on mpl, σ at most 0.07–0.08 m and α at least 0.30, against mpl's 0.02–0.04 m
+  log above: on cad, translation σ at least 0.07–0.12 m and α at least 0.85, where cad's own calibration
+  is 0.32 m and 1.10; on mpl, σ at most 0.07–0.08 m and α at least 0.31, against mpl's 0.02–0.03 m
   and 0.49).
 - **Φ reads velocities in units of the training data's typical speed**, one for all (design §1.1):
   with vehicles in the training data it is 3.0–3.9 m/s, and pedestrians (1.0–1.1 m/s alone) move

@@ -237,12 +237,12 @@ cat >> "$out/generalization.md" <<'NOTES'
   where the data's frames are further apart than Φ's curve reaches, tracks coast by constant
   velocity with a Q measured at those intervals, and the coasting Q has its own online scale
   (design §1.2). So with the mpl model on ETH/UCY (2.5 Hz, every track coasts) `ours-motion-off`
-  equals `ours`, and `ours-fixed-q` shows what that scale does: NEES 4.91 → 3.32, DE 0.1061 →
+  equals `ours`, and `ours-fixed-q` shows what that scale does: NEES 4.95 → 3.35, DE 0.1061 →
   0.0973 m.
 - **ETH/UCY with a model from other data.** Both the mpl model (pedestrians at 7 Hz) and the cad
-  model (vehicles at 10 Hz) now beat `wls` and `mmt` on the eth scene (0.0973 and 0.1002 against
-  0.1032 m), the mpl model with NEES 3.32, the cad model 2.04; and the mpl model beats
-  them by 9–12 % on every other scene held out (the last table), NEES 3.1–3.2. What helps there is the
+  model (vehicles at 10 Hz) now beat `wls` and `mmt` on the eth scene (0.0973 and 0.1004 against
+  0.1032 m), the mpl model with NEES 3.35, the cad model 2.07; and the mpl model beats
+  them by 9–12 % on every other scene held out (the last table), NEES 3.2–3.3. What helps there is the
   coasting prediction with an honest Q, not Φ, which forecasts only from histories at about its own
   training rate; on eth the mpl model's registration handling gains only 0.8 %
   (`ours-registration-off` 0.0981 m, NEES 4.13). To gain from Φ itself, train it on data like yours
@@ -250,19 +250,19 @@ cat >> "$out/generalization.md" <<'NOTES'
 - Cameras 3 and 5 times worse calibrated than the training benchmark's: with the prior the model
   calibrated, `ours-fixed-prior` trusts the offsets' estimates too much (NEES 9 and 22). `ours`
   scales the prior per scene from what the views disagree on (`stgf run` logs the scales κ_t and κ_n
-  over the scenes: medians 7.5 and 7.6, and 22.2 and 22.1 here, against the true 9 and 25 for both:
+  over the scenes: medians 7.7 and 7.7, and 22.4 and 22.1 here, against the true 9 and 25 for both:
   the proxies scale every offset alike, so the one-scale hypothesis carries the posterior) and stays
-  honest (NEES 3.0 and 3.3) and a little more accurate. `ours-registration-off` shows what the offsets cost a filter that
+  honest (NEES 2.9 and 3.2) and a little more accurate. `ours-registration-off` shows what the offsets cost a filter that
   ignores them.
 - The same cameras on their own clocks (a phase per camera within the frame period, as
   docs/results.md's asynchronous splits, and scored as they are, from two frame periods on): no two
   views ever measure a pedestrian at the same time, so the views are compared within each track's
   frame, their measurements moved along its predicted path to one time (design §1.7,
-  `stgf/core/frame_alignment.hpp`). `ours` stays honest, NEES 3.08 and 3.32 (`ours-fixed-prior`, the
-  prior as calibrated: 7.36 and 13.55), at 0.0804 and 0.1170 m against `mmt`'s 0.4127 and 0.6328 m
+  `stgf/core/frame_alignment.hpp`). `ours` stays honest, NEES 3.07 and 3.28 (`ours-fixed-prior`, the
+  prior as calibrated: 7.37 and 13.56), at 0.0802 and 0.1159 m against `mmt`'s 0.4127 and 0.6328 m
   (`wls` fuses one view at a time there).
 - The cad model's prior (vehicles' GPS errors, σ ≈ 0.3 m) is far too large for ETH/UCY's cameras
-  (0.05 m): scaled down to the scene (κ_t ≈ κ_n ≈ 0.1), `ours` becomes honest (NEES 2.04 instead
+  (0.05 m): scaled down to the scene (κ_t ≈ κ_n ≈ 0.1), `ours` becomes honest (NEES 2.07 instead
   of 0.93) and beats `wls`.
 - The same scenes at a lower frame rate (the mpl case) keep most of the gain: Φ learned from its
   training scenes at 1, 1/2 and 1/3 of their rate, and beyond that the tracks coast.
@@ -274,18 +274,18 @@ cat >> "$out/generalization.md" <<'NOTES'
 - **Q calibrated at longer intervals** (the last table, against models trained with
   `--long-intervals 0`). At 1 Hz `ours-l` is then a real one-second prediction (0.26 m, NEES 3.1), where before
   it was the measurement itself. Where the data is unlike mpl's, handing the wider-spaced histories
-  to constant velocity is what counts: at a third of mpl's rate `ours` gains 0.2 % and becomes
-  more honest (0.0459 m / NEES 2.74 against 0.0460 / 3.00), `ours-l` 24 % (0.105 against 0.139 m); on ETH/UCY the mpl model's `ours`
-  goes from 1–10 % below `wls`, NEES 4.3–5.2, to 6–12 % below it on all five scenes, NEES 3.1–3.3.
-  At mpl's own rate nothing changes. On cad it gains 0.2 % at 10 Hz (0.3441 against
-  0.3447) and 1.9 % (0.3652 against 0.3722) at 2 frames/s.
+  to constant velocity is what counts: at a third of mpl's rate `ours` gains 0.4 % and becomes
+  more honest (0.0458 m / NEES 2.74 against 0.0460 / 2.99), `ours-l` 24 % (0.105 against 0.139 m); on ETH/UCY the mpl model's `ours`
+  goes from 1–10 % below `wls`, NEES 4.3–5.3, to 6–12 % below it on all five scenes, NEES 3.2–3.4.
+  At mpl's own rate nothing changes. On cad it gains 0.2 % at 10 Hz (0.3455 against
+  0.3461) and 2.0 % (0.3661 against 0.3736) at 2 frames/s.
 - **Constant velocity where Φ does not fit** (design §1.13; compare `ours` with `ours-motion-off`).
   With Q calibrated at longer intervals Φ forecasts only from histories at about its training rate,
-  and the per-scene choice changes little in these tables (at most 0.5 %, on the cad split turned by 90°). It mattered with
+  and the per-scene choice changes little in these tables (at most 0.6 %, on the cad split turned by 90°). It mattered with
   the earlier models: on ETH/UCY's eth scene the mpl model trained with `--long-intervals 0` went
   from 0.1379 to 0.1174 m with it (NEES 30.7 → 13.1; 2026-11-23, before Q's scale learned from the
   views' combined innovation), still behind `wls`.
-- **cad at 2 frames/s** (5 s scenes, every fifth step of KITTI's 10 Hz): `ours` 0.3652 m, NEES 2.75, against
+- **cad at 2 frames/s** (5 s scenes, every fifth step of KITTI's 10 Hz): `ours` 0.3661 m, NEES 2.73, against
   `wls` 0.4868 and `mmt` 0.4845. `ours-l` is poor there (0.63 m): at 0.5 s per frame a
   track's second frame is predicted with no velocity. cad's validation scenes are 1 s long, so its
   coasting Q is calibrated to 0.4 s only; a track unseen for one frame (1 s) coasts all the same,
@@ -298,28 +298,30 @@ cat >> "$out/generalization.md" <<'NOTES'
   measurements alone: on the mpl test split with perfectly calibrated cameras `ours` is 24 % below
   `wls` (0.0321 against 0.0420 m; NEES 3.31), though the offsets it allows for cost it 1.6 % there
   (`ours-registration-off` 0.0316 m, NEES 4.00); on cad at 2 frames/s without GPS
-  errors it merely ties `wls` (0.2060 against 0.2064 m) and is 1.2 % behind `mmt` (0.2035), with
-  NEES 1.39, where `ours-registration-off` is 4.8 % ahead of `mmt` (0.1938, NEES 2.94): the
+  errors it merely ties `wls` (0.2064 against 0.2064 m) and is 1.4 % behind `mmt` (0.2035), with
+  NEES 1.37, where `ours-registration-off` is 4.9 % ahead of `mmt` (0.1936, NEES 2.94): the
   registration prior, calibrated with GPS errors, is scaled down per scene from the views'
   disagreements, but at 2 frames/s they are few and its prior keeps κ near 1 (κ_t and κ_n median
-  0.32). At 0.5 s per
+  0.30). At 0.5 s per
   frame the cad model hands every track to constant velocity with a Q calibrated for GPS-biased
   fused histories, wider than these need. `stgf run` says so (its log under that table: σ at most
-  0.18 m, α at most 0.55); set to those, `ours` is 0.2012 m (NEES 1.74), to a tenth of them 0.1947
-  (NEES 2.58), ahead of `mmt` either way (not in the tables: a config a user would write).
+  0.17–0.18 m, α at most 0.60); set to those, `ours` is 0.2010 m (NEES 1.74), to a tenth of them 0.1939
+  (NEES 2.78), ahead of `mmt` either way (not in the tables: a config a user would write).
 - **`stgf run` says when the registration prior does not fit** (design §1.7; the logs under the
   tables). It spoke on every case whose registration differs from the training data's — 0×, 3× and
   5× the calibration error (synchronised or not), cad without GPS errors, ETH/UCY's eth scene with
-  either model and three of the four other held-out scenes with mpl's (α too large for its
-  simulated cameras; on hotel κ_n's median was 0.53, just inside) — and on none of the others (other
+  either model and all four other held-out scenes with mpl's (α too large for its simulated
+  cameras; on hotel κ_n's median is 0.49, just outside) — and on none of the others (other
   frame rates, a distant origin, turned scenes, cad's longer scenes). Its bounds bracket the proxies' truth: at 3×,
-  σ at least (0.095, 0.057) m and α at least 1.35, where 3× the calibration is (0.105, 0.063) m and
-  1.47; at 5×, at least (0.163, 0.099) m and 2.3 against (0.175, 0.105) m and 2.45.
+  σ at least (0.094, 0.059) m and α at least 1.36, where 3× the calibration is (0.102, 0.064) m and
+  1.47; at 5×, at least (0.160, 0.101) m and 2.3 against (0.169, 0.107) m and 2.45.
 - **The world frame's heading.** Turned by 90° about the vertical, the mpl test split loses
-  1.8 % (0.0402 against 0.0395), the cad one 2.5 % (0.3528 against 0.3441): 83 % of cad's training motion runs along +x. A cad model trained
-  with `--rotate` is better on the split as given (0.3436) and loses 2.3 % when it is turned
-  (0.3515): what still depends on the heading is not Φ but the registration's Cholesky factor
-  (design §1.1, §1.7).
+  0.8 % (0.0398 against 0.0395), the cad one 0.1 % (0.3457 against 0.3455), though 83 % of cad's
+  training motion runs along +x. The registration's offset in noise units reaches each measurement
+  through R's Cholesky factor along its own ray (design §1.1, §1.7), which turns with the world
+  frame; with the factor in the world's axes the turned splits lost 1.8 % and 2.5 %, and a `--rotate`
+  model no less. A cad model trained with `--rotate` gives 0.3443 on the split as given and 0.3440
+  turned: what is left on mpl is Φ's.
 - Moving the world origin 4000 km away changes nothing: the table is that of docs/results.md's
   mpl test split (the filter works in relative coordinates and starts its tracks from the
   measurements, not from a prior at the origin).

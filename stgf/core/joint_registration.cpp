@@ -161,7 +161,7 @@ void JointRegistration::add_object(const Measurement& first, double noise_scale)
   // p = z − H_u β_u − e: a = z − e, B = −C with C of a position that does not depend on β.
   ObjectState object{first.position.mean(), noise_scale * r,
                      Matrix3X::Zero(3, offsets_information_vector_.size())};
-  object.offsets = -measurement_offsets(object, view, offset_jacobian(r));
+  object.offsets = -measurement_offsets(object, view, offset_jacobian(first));
   objects_.emplace(first.object, std::move(object));
 }
 
@@ -189,7 +189,7 @@ JointRegistration::Innovation JointRegistration::innovation(const Measurement& m
   const ObjectState& object = object_state(measurement.object);
   const ViewBlocks* view = view_blocks(measurement.view);
   const Matrix3d& r = measurement.position.covariance();
-  const Matrix36 h = offset_jacobian(r);
+  const Matrix36 h = offset_jacobian(measurement);
   // ν = z − p̂_i − H_u β̂_u = z − â_i − C β̂,  S = P_i + C Σ_β Cᵀ + μR (+ H_u Σ_prior H_uᵀ for a view not
   // yet seen), C = B_i + H_u E_u: C Σ_β Cᵀ = ‖L⁻¹Cᵀ‖², L⁻¹Cᵀ = W_i + Y_u H_uᵀ.
   refresh();
@@ -240,7 +240,7 @@ JointRegistration::Innovation JointRegistration::innovation(std::span<const Meas
   for (std::size_t k = 0; k < measurements.size(); ++k) {
     const Measurement& measurement = *measurements[k];
     const Matrix3d weight = combined_noise * weights[k];  // W_k
-    const Matrix36 h = offset_jacobian(measurement.position.covariance());
+    const Matrix36 h = offset_jacobian(measurement);
     Vector3d value = measurement.position.mean() - predicted;
     if (const ViewBlocks* view = view_blocks(measurement.view); view != nullptr) {
       value -= h * offset_mean(*view);
@@ -284,7 +284,7 @@ void JointRegistration::update(std::span<const Measurement* const> measurements,
     const Matrix3d& r = measurements[k]->position.covariance();
     const Cholesky3 noise_factor(noise_scales[k] * r);  // R_k
     if (!noise_factor.ok()) throw std::runtime_error("registration: a measurement's covariance is not positive definite");
-    terms.push_back(UpdateTerm{add_view(measurements[k]->view), offset_jacobian(r), noise_factor.inverse()});
+    terms.push_back(UpdateTerm{add_view(measurements[k]->view), offset_jacobian(*measurements[k]), noise_factor.inverse()});
   }
   ObjectState& object = found->second;
   const Eigen::Index size = offsets_information_vector_.size();
@@ -458,7 +458,7 @@ void JointRegistration::observe_differences(std::span<const Measurement* const> 
     if (!noise_factor.ok()) throw std::runtime_error("registration: a measurement's covariance is not positive definite");
     const Vector3d& z = measurement.position.mean();
     Term& term = terms[k];
-    term = Term{view, offset_jacobian(measurement.position.covariance()), noise_factor.inverse(), z};
+    term = Term{view, offset_jacobian(measurement), noise_factor.inverse(), z};
     for (const OffsetBlock& block : view->blocks) {
       const BlockColumns g = term.h * block.basis;
       segments.push_back(Segment{block.start, term.weight * g});
@@ -587,7 +587,7 @@ Matrix3d JointRegistration::offsets_covariance(std::span<const Measurement* cons
   refresh();
   Eigen::Matrix<double, Eigen::Dynamic, 3> whitened = Eigen::Matrix<double, Eigen::Dynamic, 3>::Zero(offsets_mean_.size(), 3);
   for (std::size_t k = 0; k < measurements.size(); ++k) {
-    const Matrix36 weighted = weights[k] * offset_jacobian(measurements[k]->position.covariance());
+    const Matrix36 weighted = weights[k] * offset_jacobian(*measurements[k]);
     if (const ViewBlocks* view = view_blocks(measurements[k]->view); view != nullptr) {
       whitened.noalias() += whitened_selector(*view) * weighted.transpose();
     } else {
@@ -602,7 +602,7 @@ Gaussian3 JointRegistration::corrected(const Measurement& measurement, double no
   const Matrix3d& r = measurement.position.covariance();
   if (prior_.is_zero() && noise_scale == 1.0) return measurement.position;
   if (prior_.is_zero()) return Gaussian3::from_covariance(measurement.position.mean(), noise_scale * r);
-  const Matrix36 h = offset_jacobian(r);
+  const Matrix36 h = offset_jacobian(measurement);
   return Gaussian3::from_covariance(measurement.position.mean() - h * offset(measurement.view),
                                     noise_scale * r + h * offset_covariance(measurement.view) * h.transpose());
 }

@@ -98,7 +98,7 @@ RegistrationCalibration calibrate_registration_prior(std::span<const Measurement
   std::map<std::pair<std::string, std::string>, GroupStatistics> by_group;
   for (std::size_t k = 0; k < measurements.size(); ++k) {
     const Measurement& measurement = measurements[k];
-    const Eigen::Matrix<double, 3, kOffsetSize> jacobian = offset_jacobian(measurement.position.covariance());
+    const Eigen::Matrix<double, 3, kOffsetSize> jacobian = offset_jacobian(measurement);
     const Eigen::Matrix<double, kOffsetSize, 3> weighted =
         jacobian.transpose() * measurement.position.information();
     GroupStatistics& group = by_group.try_emplace({measurement.scene, measurement.view}).first->second;
@@ -142,7 +142,7 @@ RegistrationCalibration calibrate_registration_prior_from_disagreements(
         for (std::size_t j = 0; j < k; ++j) {
           const Measurement& measurement = measurements[rows[j]];
           const Matrix3d& information = measurement.position.information();
-          const Eigen::Matrix<double, 3, kOffsetSize> jacobian = offset_jacobian(measurement.position.covariance());
+          const Eigen::Matrix<double, 3, kOffsetSize> jacobian = offset_jacobian(measurement);
           weighted_jacobian[j] = information * jacobian;
           column[j] = kOffsetSize * view_index.at(measurement.view);
           information_sum += information;

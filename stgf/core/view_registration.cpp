@@ -26,6 +26,22 @@ Matrix36 offset_jacobian(const Matrix3d& measurement_covariance) {
   return jacobian;
 }
 
+Matrix36 offset_jacobian(const Measurement& measurement) {
+  const Matrix3d& r = measurement.position.covariance();
+  if (!measurement.sensor_position) return offset_jacobian(r);
+  // F = G L(Gᵀ R G): the Cholesky factor in the frame whose x runs along the ray's heading.
+  const Vector3d ray = measurement.position.mean() - *measurement.sensor_position;
+  const double length = std::hypot(ray.x(), ray.y());
+  if (!(length > 0.0)) return offset_jacobian(r);  // straight above or below the sensor: no heading
+  const double c = ray.x() / length;
+  const double s = ray.y() / length;
+  Matrix3d turn;
+  turn << c, -s, 0, s, c, 0, 0, 0, 1;
+  Matrix36 jacobian = offset_jacobian(Matrix3d(turn.transpose() * r * turn));
+  jacobian.rightCols<3>() = turn * jacobian.rightCols<3>();
+  return jacobian;
+}
+
 Eigen::Matrix<double, 6, 6> RegistrationPrior::covariance() const {
   for (int axis = 0; axis < 3; ++axis) {
     const double sigma = translation_sigma[axis];
@@ -86,7 +102,7 @@ Gaussian3 ViewRegistration::combine(std::span<const Measurement* const> measurem
   for (Eigen::Index j = 0; j < k; ++j) {
     const Measurement& measurement = *measurements_of_object[static_cast<std::size_t>(j)];
     index[j] = index_of(measurement.view);
-    jacobian[j] = offset_jacobian(measurement.position.covariance());
+    jacobian[j] = offset_jacobian(measurement);
     corrected.segment<3>(3 * j) = measurement.position.mean();
     if (index[j] >= 0) corrected.segment<3>(3 * j) -= jacobian[j] * offsets_.segment<kOffsetSize>(kOffsetSize * index[j]);
   }
@@ -139,7 +155,7 @@ void ViewRegistration::learn(std::span<const Measurement* const> step) {
     std::vector<Matrix36> jacobian(static_cast<std::size_t>(k));
     for (Eigen::Index j = 0; j < k; ++j) {
       column[j] = kOffsetSize * index_of(rows[j]->view);
-      jacobian[j] = offset_jacobian(rows[j]->position.covariance());
+      jacobian[j] = offset_jacobian(*rows[j]);
     }
     Eigen::MatrixXd observation = Eigen::MatrixXd::Zero(m, kOffsetSize * k);  // H_obs on the involved columns
     Eigen::VectorXd innovation(m);

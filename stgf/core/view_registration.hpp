@@ -6,12 +6,15 @@
 // and weights a biased view as if it were exact.
 //
 // Model. View u's measurement of an object at p is
-//     z = p + H_u β_u + e,   e ~ N(0, R),   H_u = [ I₃  L ],  L Lᵀ = R (lower Cholesky factor),
+//     z = p + H_u β_u + e,   e ~ N(0, R),   H_u = [ I₃  F ],  F = G L(Gᵀ R G)  (offset_jacobian below:
+//     L(·) the lower Cholesky factor, G the turn about the vertical to the ray's heading, sensor → object),
 // with β_u = (t_u, δ_u) ∈ R⁶ constant over a scene:
 //   t_u  a translation in the world frame (a GPS or extrinsic position error);
 //   δ_u  an offset in the view's own noise units (a small rotation of a camera or range sensor moves
 //        every measurement by about the same angle / the same pixels, which reaches the world through
-//        the same Jacobian that shapes R, so it grows with range exactly as R does).
+//        the same Jacobian that shapes R, so it grows with range exactly as R does). In the ray's
+//        frame its first component moves the measurement along the ray in the ray's own sense (a
+//        tilt), its second across it (a pan), for every ray of the view, whatever the world frame.
 // Prior: t_u ~ N(0, diag(σ_x², σ_y², σ_z²)) and δ_u ~ N(0, α² I₃), independent across views
 // (RegistrationPrior; calibrate it with registration_calibration.hpp).
 //
@@ -57,8 +60,14 @@ struct RegistrationPrior {
   Eigen::Matrix<double, 6, 6> covariance() const;
 };
 
-// H = [I₃  L] with L Lᵀ = R: how a view's offset β = (t, δ) moves a measurement with covariance R.
+// H = [I₃  L] with L Lᵀ = R in the world's axes: how a view's offset β = (t, δ) moves a measurement
+// with covariance R whose sensor position is not known.
 Eigen::Matrix<double, 3, 6> offset_jacobian(const Matrix3d& measurement_covariance);
+// H = [I₃  F] for a measurement: with its sensor position known, F = G L(Gᵀ R G), G the turn about
+// the vertical taking x to the heading of its ray (object − sensor), so that δ's first component
+// moves the measurement along its own ray, in the ray's own sense, and F turns with the world frame
+// (design §1.1); without one (or straight above the sensor), the plain L of R in the world's axes.
+Eigen::Matrix<double, 3, 6> offset_jacobian(const Measurement& measurement);
 
 class ViewRegistration {
  public:

@@ -8,6 +8,7 @@
 #include <gtest/gtest.h>
 
 #include <Eigen/Cholesky>
+#include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -79,6 +80,34 @@ TEST(ViewRegistration, OffsetJacobianHoldsEigensCholeskyFactorBitForBit) {
     const Matrix3d l = r.llt().matrixL();
     EXPECT_EQ(h.leftCols<3>(), Matrix3d::Identity());
     ASSERT_EQ(h.rightCols<3>(), l) << "R =\n" << r;
+  }
+}
+
+// With the sensor's position, H = [I₃ G L(Gᵀ R G)]: it turns with the world frame (turn the object,
+// the sensor and R about the vertical, and H's factor turns with them), its first column runs along
+// the ray in the ray's own sense whatever the heading, and without a sensor it is the plain factor.
+TEST(ViewRegistration, OffsetJacobianAlongTheRayTurnsWithTheWorldFrame) {
+  std::mt19937_64 rng(23);
+  std::uniform_real_distribution<double> angle(-M_PI, M_PI);
+  for (int trial = 0; trial < 200; ++trial) {
+    const double heading = angle(rng);
+    const Vector3d ray(std::cos(heading), std::sin(heading), 0.0);
+    // Long along the ray (depth), short across it, as a camera's back-projected foot point is.
+    const Vector3d across(-ray.y(), ray.x(), 0.0);
+    const Matrix3d r = 0.09 * ray * ray.transpose() + 0.004 * across * across.transpose() +
+                       0.0025 * Vector3d::UnitZ() * Vector3d::UnitZ().transpose();
+    Measurement row = measurement("v", "o", Vector3d(1.0, 2.0, 0.0) + 12.0 * ray, r);
+    row.sensor_position = Vector3d(1.0, 2.0, 5.0);
+    const Matrix36 h = offset_jacobian(row);
+    EXPECT_EQ(h.leftCols<3>(), Matrix3d::Identity());
+    EXPECT_LT((h.col(3) - 0.3 * ray).norm(), 1e-12) << "heading " << heading;  // √0.09 along the ray
+    EXPECT_LT((h.rightCols<3>() * h.rightCols<3>().transpose() - r).norm(), 1e-12);
+    const Matrix3d turn = Eigen::AngleAxisd(angle(rng), Vector3d::UnitZ()).toRotationMatrix();
+    Measurement turned = measurement("v", "o", turn * row.position.mean(), turn * r * turn.transpose());
+    turned.sensor_position = turn * *row.sensor_position;
+    EXPECT_LT((offset_jacobian(turned).rightCols<3>() - turn * h.rightCols<3>()).norm(), 1e-12);
+    row.sensor_position.reset();
+    EXPECT_EQ(offset_jacobian(row), offset_jacobian(row.position.covariance()));
   }
 }
 
