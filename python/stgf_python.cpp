@@ -116,7 +116,11 @@ std::vector<Measurement> measurements_from_arrays(const py::object& scene, const
     const auto k = static_cast<std::size_t>(i);
     rows.push_back(Measurement{scenes[k], t(i), views[k], objects[k], gaussian(z, R, i, where), std::nullopt, std::nullopt});
     if (arrival) rows.back().arrival = arrival->at(i);
-    if (sensor_position) rows.back().sensor_position = row3(*sensor_position, i);
+    if (sensor_position) {
+      const Vector3d sensor = row3(*sensor_position, i);
+      if (!sensor.allFinite()) throw std::invalid_argument(where + "sensor_position is not finite");
+      rows.back().sensor_position = sensor;
+    }
   }
   return rows;
 }
@@ -186,8 +190,10 @@ class Filter {
                                                           filter_options_for(settings.ours, metadata, model_path));
   }
 
-  py::dict fuse(const Array& time, const py::object& view, const py::object& object, const Array& z, const Array& R) {
-    const std::vector<Measurement> rows = measurements_from_arrays(py::str("scene"), time, view, object, z, R, {}, {});
+  py::dict fuse(const Array& time, const py::object& view, const py::object& object, const Array& z, const Array& R,
+                const std::optional<Array>& sensor_position) {
+    const std::vector<Measurement> rows =
+        measurements_from_arrays(py::str("scene"), time, view, object, z, R, {}, sensor_position);
     std::vector<Gaussian3> estimates;
     {
       py::gil_scoped_release release;
@@ -237,14 +243,15 @@ class Filter {
 
 py::dict run(const std::string& method, const py::object& scene, const Array& time, const py::object& view,
              const py::object& object, const Array& z, const Array& R, const std::optional<Array>& arrival,
-             const py::object& model, const std::optional<std::string>& config) {
+             const std::optional<Array>& sensor_position, const py::object& model,
+             const std::optional<std::string>& config) {
   if (std::find(all_method_names().begin(), all_method_names().end(), method) == all_method_names().end()) {
     std::string known;
     for (const std::string& name : all_method_names()) known += (known.empty() ? "" : ", ") + name;
     throw std::invalid_argument("unknown method '" + method + "' (known: " + known + ")");
   }
   const MethodConfig settings = config_from(config);
-  const std::vector<Measurement> rows = measurements_from_arrays(scene, time, view, object, z, R, arrival, {});
+  const std::vector<Measurement> rows = measurements_from_arrays(scene, time, view, object, z, R, arrival, sensor_position);
   std::optional<Model> loaded;
   if (is_learned_method(method)) {
     // No model: ours and ours-l get the general model, as `stgf run` without --model (sttp: an error).
@@ -458,7 +465,8 @@ PYBIND11_MODULE(_stgf, m) {
   py::class_<Filter>(m, "Filter")
       .def(py::init<const py::object&, const std::optional<std::string>&, double, double>(), py::arg("model") = py::none(),
            py::arg("config") = py::none(), py::arg("process_noise") = 0.5, py::arg("typical_speed") = 1.4)
-      .def("fuse", &Filter::fuse, py::arg("time"), py::arg("view"), py::arg("object"), py::arg("z"), py::arg("R"))
+      .def("fuse", &Filter::fuse, py::arg("time"), py::arg("view"), py::arg("object"), py::arg("z"), py::arg("R"),
+           py::arg("sensor_position") = py::none())
       .def("registration_offset", &Filter::registration_offset, py::arg("view"))
       .def_property_readonly("registration_prior_scales", &Filter::registration_prior_scales,
                              "(κ_t, κ_n): the registration prior's learned scales on the translation and on the offset in units of the noise (1 until learned)")
@@ -470,8 +478,8 @@ PYBIND11_MODULE(_stgf, m) {
       .def_property_readonly("gating", &Filter::gating);
 
   m.def("run", &sp::run, py::arg("method"), py::arg("scene"), py::arg("time"), py::arg("view"), py::arg("object"),
-        py::arg("z"), py::arg("R"), py::arg("arrival") = py::none(), py::arg("model") = py::none(),
-        py::arg("config") = py::none());
+        py::arg("z"), py::arg("R"), py::arg("arrival") = py::none(), py::arg("sensor_position") = py::none(),
+        py::arg("model") = py::none(), py::arg("config") = py::none());
   m.def("method_names", [] { return stgf::all_method_names(); });
   m.def("read_measurements", &read_measurements_file, py::arg("path"));
   m.def("read_truth", &read_truth_file, py::arg("path"));

@@ -50,7 +50,8 @@ def run(method, measurements, model=None, config=None):
     """Runs a method (aom, wls, mmt, sttp, ours-l, ours) over measurements of any number of scenes.
 
     ``measurements`` is a dict as read_measurements returns it (keys scene, time, view, object, z, R,
-    and optionally arrival), or the path of a measurements CSV. ``model`` (a path or a Model) is
+    and optionally arrival and sensor_position), or the path of a measurements CSV. ``ours`` factors
+    each view's registration offset along the ray from its sensor when the sensor position is given. ``model`` (a path or a Model) is
     what sttp, ours-l and ours run; without one, ours and ours-l use the general model shipped with
     stgf (general_model(), models/README.md) and sttp is an error; ``config`` is the path of a YAML method settings file.
     Returns a dict: ``mean`` (n, 3), ``covariance`` (n, 3, 3), one per measurement in order, and
@@ -61,7 +62,8 @@ def run(method, measurements, model=None, config=None):
     return _stgf.run(method, measurements["scene"], _np.asarray(measurements["time"], dtype=float),
                      measurements["view"], measurements["object"],
                      _np.asarray(measurements["z"], dtype=float), _np.asarray(measurements["R"], dtype=float),
-                     arrival=measurements.get("arrival"), model=model, config=config)
+                     arrival=measurements.get("arrival"), sensor_position=measurements.get("sensor_position"),
+                     model=model, config=config)
 
 
 def write_estimates(path, measurements, estimates, method):

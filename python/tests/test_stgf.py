@@ -143,6 +143,10 @@ class TestFilter(unittest.TestCase):
             f.fuse([0.0, 0.0], ["a"], "o", np.zeros((2, 3)), np.repeat(np.eye(3)[None], 2, axis=0))
         with self.assertRaisesRegex(ValueError, "measurement 0: time is not finite"):
             f.fuse([np.nan], ["a"], "o", np.zeros((1, 3)), np.eye(3)[None])
+        with self.assertRaisesRegex(ValueError, r"sensor_position has shape \(1, 2\) where \(1, 3\) was expected"):
+            f.fuse([0.0], ["a"], "o", np.zeros((1, 3)), np.eye(3)[None], sensor_position=np.zeros((1, 2)))
+        with self.assertRaisesRegex(ValueError, "measurement 0: sensor_position is not finite"):
+            f.fuse([0.0], ["a"], "o", np.zeros((1, 3)), np.eye(3)[None], sensor_position=np.full((1, 3), np.nan))
 
     def test_missing_model_is_an_input_error(self):
         with self.assertRaisesRegex(stgf.InputError, "/nonexistent/model.pt"):
@@ -248,7 +252,7 @@ class TestLearned(unittest.TestCase):
                 rows = [k for k, s in enumerate(m["scene"]) if s == scene]
                 f = stgf.Filter(model)
                 est = f.fuse(m["time"][rows], [m["view"][k] for k in rows], [m["object"][k] for k in rows],
-                             m["z"][rows], m["R"][rows])
+                             m["z"][rows], m["R"][rows], sensor_position=m["sensor_position"][rows])
                 np.testing.assert_allclose(est["mean"], batch["mean"][rows], atol=1e-6)
 
 
