@@ -119,7 +119,7 @@ void BM_RegistrationStep(benchmark::State& state) {
   }
   RegistrationPrior prior;
   prior.translation_sigma = Vector3d(0.3, 0.3, 0.0);
-  prior.noise_ratio = 0.5;
+  prior.noise_ratio = Vector3d::Constant(0.5);
   ViewRegistration registration(prior);
   std::vector<const Measurement*> step;
   for (const Measurement& row : rows) step.push_back(&row);

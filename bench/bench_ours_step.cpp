@@ -71,7 +71,7 @@ void run_frames(benchmark::State& state, bool asynchronous) {
   options.lag_window = 0.0;
   if (state.range(2) != 0) {
     options.registration.translation_sigma = Vector3d(0.1, 0.1, 0.0);
-    options.registration.noise_ratio = 0.5;
+    options.registration.noise_ratio = Vector3d::Constant(0.5);
   }
   const MotionModel model(MotionModelShape{}, MotionNormalisation{0.5, kPeriod, 5.0, 3 * kPeriod}, 1);
   // Google Benchmark calls this function several times per size: the steps are made once.

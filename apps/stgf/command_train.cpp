@@ -71,6 +71,13 @@ void add_train_command(CLI::App& app) {
                       "calibrated and run as such)")
       ->check(CLI::IsMember({"float32", "float16"}))
       ->capture_default_str();
+  command->add_option("--noise-ratio", options->noise_ratio,
+                      "the registration prior's offset in units of the noise: one α for all three axes, or per-axis: "
+                      "one each along, across and vertical to the measurements' rays (better on vehicles whose "
+                      "offsets lie across their rays; a zero on an axis cannot be scaled out of on other data, "
+                      "docs/design.md §1.7)")
+      ->check(CLI::IsMember({"one", "per-axis"}))
+      ->capture_default_str();
   command->add_option("--history", t.shape.history_length, "history intervals Φ sees")
       ->capture_default_str()
       ->check(CLI::PositiveNumber);

@@ -132,7 +132,10 @@ std::string results_markdown(const ReproduceSummary& summary, const std::vector<
     if (result.registration.contains("translation_sigma_m")) {
       const auto& s = result.registration.at("translation_sigma_m");
       sigma = fmt::format("({:.3f}, {:.3f}, {:.3f})", s[0].get<double>(), s[1].get<double>(), s[2].get<double>());
-      ratio_text = fmt::format("{:.3f}", result.registration.at("noise_ratio").get<double>());
+      const auto& ratio = result.registration.at("noise_ratio");
+      ratio_text = ratio.is_array() ? fmt::format("({:.3f}, {:.3f}, {:.3f})", ratio[0].get<double>(),
+                                                  ratio[1].get<double>(), ratio[2].get<double>())
+                                    : fmt::format("{:.3f}", ratio.get<double>());
     }
     text += fmt::format("| {} | {} | {} | {} | {} | {} | {} | {} | {} |\n", result.name, sigma, ratio_text,
                         number(on->overall.displacement_error, 4), number(on->overall.nees_mean, 2),

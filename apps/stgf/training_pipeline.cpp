@@ -288,9 +288,10 @@ void train_model(ModelTraining options) {
       read_splits(options.benchmarks, "/train", source, history, with_truth, options.strides).graphs;
   const Split validation = read_splits(options.benchmarks, "/val", source, history, with_truth);
   // The views' registration prior, on the validation split (of every benchmark together).
-  RegistrationCalibration calibrated = with_truth
-                                           ? calibrate_registration_prior(validation.measurements, validation.target_of_row)
-                                           : calibrate_registration_prior_from_disagreements(validation.measurements);
+  const NoiseRatioAxes axes = options.noise_ratio == "per-axis" ? NoiseRatioAxes::kPerAxis : NoiseRatioAxes::kOne;
+  RegistrationCalibration calibrated =
+      with_truth ? calibrate_registration_prior(validation.measurements, validation.target_of_row, axes)
+                 : calibrate_registration_prior_from_disagreements(validation.measurements, axes);
   if (options.rotate) {  // a prior that does not depend on the world frame's heading either
     Vector3d& sigma = calibrated.prior.translation_sigma;
     sigma.x() = sigma.y() = std::sqrt(0.5 * (sigma.x() * sigma.x() + sigma.y() * sigma.y()));
@@ -301,12 +302,17 @@ void train_model(ModelTraining options) {
                with_truth ? "the truth" : "the fused measurements (no truth)",
                std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
   const RegistrationPrior& registration = calibrated.prior;
+  const Vector3d& ratio = registration.noise_ratio;
   spdlog::info("registration error on the validation split ({} {}): translation sigma ({:.3g}, {:.3g}, "
-               "{:.3g}) m, noise ratio {:.3g}",
+               "{:.3g}) m, noise ratio {}",
                calibrated.groups,
                with_truth ? "scene-views against the truth" : "scenes where views disagree",
-               registration.translation_sigma.x(),
-               registration.translation_sigma.y(), registration.translation_sigma.z(), registration.noise_ratio);
+               registration.translation_sigma.x(), registration.translation_sigma.y(),
+               registration.translation_sigma.z(),
+               ratio.isConstant(ratio.x())
+                   ? fmt::format("{:.3g}", ratio.x())
+                   : fmt::format("along, across, vertical to the rays ({:.3g}, {:.3g}, {:.3g})", ratio.x(), ratio.y(),
+                                 ratio.z()));
   options.training.metadata["registration"] = registration_prior_to_json(registration);
   std::string calibrated_on;
   for (const std::string& benchmark : options.benchmarks) {

@@ -42,6 +42,9 @@ struct ModelTraining {
   // here (1 = as recorded), so it predicts at lower frame rates too.
   std::vector<int> strides = {1, 2, 3};
   std::string weights = "float32";  // how the model file stores the weights: float32 | float16
+  // The registration prior's α: one for all three axes of δ, or one per axis of the rays' frame
+  // (registration_calibration.hpp: NoiseRatioAxes): one | per-axis.
+  std::string noise_ratio = "one";
   bool rotate = false;  // turn each training graph by a random heading every epoch (MotionTrainingOptions::rotate)
   // Q also calibrated at intervals up to this many seconds (calibrate_process_noise_intervals), so that
   // tracks coast across missed frames and low frame rates; 0: off.

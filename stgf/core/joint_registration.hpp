@@ -7,7 +7,7 @@
 //
 // Model (view_registration.hpp): view u's measurement of object i is
 //     z = p_i + H_u β_u + e,   e ~ N(0, R),   H_u = [ I₃  F ]  (F: R's factor along the ray, offset_jacobian),
-// with β_u = (t_u, δ_u) ∈ R⁶ constant over the scene and a prior N(0, diag(σ², α² I₃)) per view,
+// with β_u = (t_u, δ_u) ∈ R⁶ constant over the scene and a prior N(0, diag(σ², α²)) per view (α per ray axis),
 // independent across views (RegistrationPrior). A measurement is a linear observation of s with
 // H = [0 … I₃ (at p_i) … H_u (at β_u) … 0], and the Kalman update on it is exact:
 //     ν = z − p̂_i − H_u β̂_u,   S = H Σ Hᵀ + R,   K = Σ Hᵀ S⁻¹,   ŝ += K ν,   Σ −= K S Kᵀ.

@@ -14,7 +14,7 @@
 namespace stgf {
 namespace {
 
-using Parameters = std::array<double, 4>;  // log10 of σ_x, σ_y, σ_z, α
+using Parameters = std::array<double, 6>;  // log10 of σ_x, σ_y, σ_z, α_along, α_across, α_vertical
 constexpr int kOffsetSize = ViewRegistration::kOffsetSize;
 
 // A group's evidence on the offsets β of its views (6 coordinates per view): information A, vector b.
@@ -27,12 +27,11 @@ struct GroupStatistics {
 };
 
 constexpr double kLowest = -4.0;                            // log10 of the smallest σ or α
-constexpr std::array<double, 4> kHighest = {1.5, 1.5, 1.5, 2.0};
+constexpr std::array<double, 6> kHighest = {1.5, 1.5, 1.5, 2.0, 2.0, 2.0};
 
 double log_likelihood(const std::vector<GroupStatistics>& groups, const Parameters& parameters) {
   Eigen::Matrix<double, kOffsetSize, 1> prior_information;
-  for (int axis = 0; axis < 3; ++axis) prior_information[axis] = std::pow(10.0, -2.0 * parameters[axis]);
-  prior_information.tail<3>().setConstant(std::pow(10.0, -2.0 * parameters[3]));
+  for (int k = 0; k < kOffsetSize; ++k) prior_information[k] = std::pow(10.0, -2.0 * parameters[k]);
   const double log_det_prior = prior_information.array().log().sum();
   double total = 0.0;
   for (const GroupStatistics& group : groups) {
@@ -47,13 +46,18 @@ double log_likelihood(const std::vector<GroupStatistics>& groups, const Paramete
   return total;
 }
 
-// Best value of one coordinate on the grid lo, lo + step, …, hi (others fixed).
+// The coordinates a search coordinate sets: itself, or with one α for all three axes, α's three.
+int last_of(int coordinate, NoiseRatioAxes axes) {
+  return axes == NoiseRatioAxes::kOne && coordinate == 3 ? 5 : coordinate;
+}
+
+// Best value of one search coordinate on the grid lo, lo + step, …, hi (others fixed).
 double best_on_grid(const std::vector<GroupStatistics>& groups, Parameters parameters, int coordinate, double lo,
-                    double hi, double step) {
+                    double hi, double step, NoiseRatioAxes axes) {
   double best_value = parameters[coordinate];
   double best = log_likelihood(groups, parameters);
   for (double value = lo; value <= hi + 1e-9; value += step) {
-    parameters[coordinate] = value;
+    for (int k = coordinate; k <= last_of(coordinate, axes); ++k) parameters[k] = value;
     const double candidate = log_likelihood(groups, parameters);
     if (candidate > best) {
       best = candidate;
@@ -63,27 +67,30 @@ double best_on_grid(const std::vector<GroupStatistics>& groups, Parameters param
   return best_value;
 }
 
-// The four parameters that maximise the groups' marginal likelihood.
-RegistrationCalibration maximise_likelihood(const std::vector<GroupStatistics>& groups) {
+// The parameters that maximise the groups' marginal likelihood.
+RegistrationCalibration maximise_likelihood(const std::vector<GroupStatistics>& groups, NoiseRatioAxes axes) {
   RegistrationCalibration result;
   result.groups = groups.size();
   if (groups.empty()) return result;
-  Parameters parameters = {kLowest, kLowest, kLowest, kLowest};
+  Parameters parameters;
+  parameters.fill(kLowest);
   const double none = log_likelihood(groups, parameters);
   for (const double step : {0.1, 0.01}) {
     for (int sweep = 0; sweep < 20; ++sweep) {
       const Parameters before = parameters;
-      for (int coordinate = 0; coordinate < 4; ++coordinate) {
+      const int coordinates = axes == NoiseRatioAxes::kOne ? 4 : static_cast<int>(parameters.size());
+      for (int coordinate = 0; coordinate < coordinates; ++coordinate) {
         const double lo = step < 0.1 ? std::max(kLowest, parameters[coordinate] - 0.1) : kLowest;
         const double hi = step < 0.1 ? std::min(kHighest[coordinate], parameters[coordinate] + 0.1) : kHighest[coordinate];
-        parameters[coordinate] = best_on_grid(groups, parameters, coordinate, lo, hi, step);
+        const double best = best_on_grid(groups, parameters, coordinate, lo, hi, step, axes);
+        for (int k = coordinate; k <= last_of(coordinate, axes); ++k) parameters[k] = best;
       }
       if (parameters == before) break;
     }
   }
   auto sigma = [](double log10_value) { return log10_value <= kLowest + 1e-9 ? 0.0 : std::pow(10.0, log10_value); };
   result.prior.translation_sigma = Vector3d(sigma(parameters[0]), sigma(parameters[1]), sigma(parameters[2]));
-  result.prior.noise_ratio = sigma(parameters[3]);
+  result.prior.noise_ratio = Vector3d(sigma(parameters[3]), sigma(parameters[4]), sigma(parameters[5]));
   result.log_likelihood_gain = (log_likelihood(groups, parameters) - none) / static_cast<double>(groups.size());
   return result;
 }
@@ -91,7 +98,7 @@ RegistrationCalibration maximise_likelihood(const std::vector<GroupStatistics>& 
 }  // namespace
 
 RegistrationCalibration calibrate_registration_prior(std::span<const Measurement> measurements,
-                                                     std::span<const Vector3d> truth) {
+                                                     std::span<const Vector3d> truth, NoiseRatioAxes axes) {
   if (measurements.size() != truth.size()) {
     throw std::invalid_argument("calibrate_registration_prior: one truth position per measurement");
   }
@@ -108,11 +115,11 @@ RegistrationCalibration calibrate_registration_prior(std::span<const Measurement
   std::vector<GroupStatistics> groups;
   groups.reserve(by_group.size());
   for (auto& entry : by_group) groups.push_back(std::move(entry.second));
-  return maximise_likelihood(groups);
+  return maximise_likelihood(groups, axes);
 }
 
 RegistrationCalibration calibrate_registration_prior_from_disagreements(
-    std::span<const Measurement> measurements) {
+    std::span<const Measurement> measurements, NoiseRatioAxes axes) {
   std::vector<GroupStatistics> groups;
   for (const Scene& scene : group_into_scenes(measurements)) {
     // The scene's views, in order of first appearance: view u's offset is β[6u, 6u + 6).
@@ -167,7 +174,7 @@ RegistrationCalibration calibrate_registration_prior_from_disagreements(
     }
     if (disagreed) groups.push_back(std::move(group));
   }
-  return maximise_likelihood(groups);
+  return maximise_likelihood(groups, axes);
 }
 
 }  // namespace stgf

@@ -7,8 +7,9 @@
 // the filter trusts its offsets' estimates, and so its fused positions, too much (NEES ≫ 3); too large,
 // it gives up accuracy it could have had. Two scales on the prior are learned per scene, one for the
 // translation t_u and one for the offset in units of the view's noise δ_u (its ratio α); the shape
-// within each (σ_x : σ_y : σ_z, and δ's isotropy) stays as calibrated:
-//     t_u ~ N(0, κ_t Σ₀,t),  δ_u ~ N(0, κ_n α² I₃) for every view u,   Λ₀ = Σ₀⁻¹,  Λ(κ) = Λ₀ / κ per coordinate.
+// within each (σ_x : σ_y : σ_z, and α_along : α_across : α_vertical) stays as calibrated:
+//     t_u ~ N(0, κ_t Σ₀,t),  δ_u ~ N(0, κ_n Σ₀,δ) for every view u,   Λ₀ = Σ₀⁻¹,  Λ(κ) = Λ₀ / κ per coordinate
+// (Σ₀,δ = diag(α_along², α_across², α_vertical²)),
 // Two, because sensors differ in both and not in proportion: a model calibrated on vehicles (GPS
 // offsets of decimetres, small α) meets cameras whose offsets are centimetres but grow with their
 // noise (large α). One scale on both could only take the compromise — on such cameras κ ≈ 0.9, so

@@ -49,12 +49,14 @@ Eigen::Matrix<double, 6, 6> RegistrationPrior::covariance() const {
       throw std::invalid_argument("registration translation sigma must be finite and >= 0");
     }
   }
-  if (!std::isfinite(noise_ratio) || noise_ratio < 0.0) {
-    throw std::invalid_argument("registration noise ratio must be finite and >= 0");
+  for (int axis = 0; axis < 3; ++axis) {
+    if (!std::isfinite(noise_ratio[axis]) || noise_ratio[axis] < 0.0) {
+      throw std::invalid_argument("registration noise ratio must be finite and >= 0");
+    }
   }
   Eigen::Matrix<double, 6, 6> covariance = Eigen::Matrix<double, 6, 6>::Zero();
   covariance.diagonal().head<3>() = translation_sigma.cwiseProduct(translation_sigma);
-  covariance.diagonal().tail<3>().setConstant(noise_ratio * noise_ratio);
+  covariance.diagonal().tail<3>() = noise_ratio.cwiseProduct(noise_ratio);
   return covariance;
 }
 

@@ -15,8 +15,9 @@
 //        the same Jacobian that shapes R, so it grows with range exactly as R does). In the ray's
 //        frame its first component moves the measurement along the ray in the ray's own sense (a
 //        tilt), its second across it (a pan), for every ray of the view, whatever the world frame.
-// Prior: t_u ~ N(0, diag(σ_x², σ_y², σ_z²)) and δ_u ~ N(0, α² I₃), independent across views
-// (RegistrationPrior; calibrate it with registration_calibration.hpp).
+// Prior: t_u ~ N(0, diag(σ_x², σ_y², σ_z²)) and δ_u ~ N(0, diag(α_along², α_across², α_vertical²)) in
+// the ray's frame, independent across views (RegistrationPrior; calibrate it with
+// registration_calibration.hpp: one α for all three axes by default, or one per axis).
 //
 // Online estimation, per scene. The joint Gaussian N(β̂, Σ) over the offsets of every view seen so far
 // is learned only from what views disagree on: when views V = {u₁..u_k}, k ≥ 2, measure the same object
@@ -54,9 +55,14 @@ namespace stgf {
 
 struct RegistrationPrior {
   Vector3d translation_sigma = Vector3d::Zero();  // σ of t along the world axes (m)
-  double noise_ratio = 0.0;                       // α: σ of δ in units of the view's own noise
-  bool is_zero() const { return translation_sigma.isZero() && noise_ratio == 0.0; }
-  // diag(σ_x², σ_y², σ_z², α², α², α²). Throws std::invalid_argument when a sigma is negative or not finite.
+  // α: σ of δ in units of the view's own noise, per axis of δ: along the measurement's ray, across it
+  // (horizontal), vertical (offset_jacobian's frame; for a row without a sensor position the world's
+  // x, y, z). Offsets differ by direction: a camera's tilt moves its measurements along their rays,
+  // its pan across them; a vehicle's GPS heading error only across (design §1.7).
+  Vector3d noise_ratio = Vector3d::Zero();
+  bool is_zero() const { return translation_sigma.isZero() && noise_ratio.isZero(); }
+  // diag(σ_x², σ_y², σ_z², α_along², α_across², α_vertical²). Throws std::invalid_argument when a sigma
+  // or α is negative or not finite.
   Eigen::Matrix<double, 6, 6> covariance() const;
 };
 

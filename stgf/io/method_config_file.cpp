@@ -173,7 +173,16 @@ void read_ours(const std::string& path, const YAML::Node& node, OursSettings& se
         throw InputError(path, line_of(entry.second), name + " must be true or false");
       }
     } else if (key == "registration_noise_ratio") {
-      settings.noise_ratio = non_negative_number(path, name, entry.second);
+      const YAML::Node& value = entry.second;
+      if (value.IsSequence()) {
+        if (value.size() != 3) {
+          throw InputError(path, line_of(value), name + " must be one number or a list of three (along, across, vertical)");
+        }
+        settings.noise_ratio = Vector3d(non_negative_number(path, name, value[0]), non_negative_number(path, name, value[1]),
+                                        non_negative_number(path, name, value[2]));
+      } else {
+        settings.noise_ratio = Vector3d::Constant(non_negative_number(path, name, value));
+      }
     } else if (key == "tracks") {
       settings.per_view_tracks = one_of(path, name, entry.second, {"per-object", "per-view"}) == "per-view";
     } else if (key == "lag_window_s") {

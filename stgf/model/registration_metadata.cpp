@@ -10,7 +10,9 @@ namespace stgf {
 nlohmann::json registration_prior_to_json(const RegistrationPrior& prior) {
   return {{"translation_sigma_m",
            {prior.translation_sigma.x(), prior.translation_sigma.y(), prior.translation_sigma.z()}},
-          {"noise_ratio", prior.noise_ratio}};
+          {"noise_ratio", prior.noise_ratio.isConstant(prior.noise_ratio.x())
+                              ? nlohmann::json(prior.noise_ratio.x())
+                              : nlohmann::json{prior.noise_ratio.x(), prior.noise_ratio.y(), prior.noise_ratio.z()}}};
 }
 
 std::optional<RegistrationPrior> registration_prior_from_metadata(const nlohmann::json& metadata,
@@ -20,19 +22,23 @@ std::optional<RegistrationPrior> registration_prior_from_metadata(const nlohmann
   auto finite_non_negative = [](const nlohmann::json& value) {
     return value.is_number() && std::isfinite(value.get<double>()) && value.get<double>() >= 0.0;
   };
+  auto three_finite_non_negative = [&](const nlohmann::json& value) {
+    return value.is_array() && value.size() == 3 && finite_non_negative(value[0]) && finite_non_negative(value[1]) &&
+           finite_non_negative(value[2]);
+  };
   const bool valid = entry.is_object() && entry.contains("translation_sigma_m") && entry.contains("noise_ratio") &&
-                     entry.at("translation_sigma_m").is_array() && entry.at("translation_sigma_m").size() == 3 &&
-                     finite_non_negative(entry.at("translation_sigma_m")[0]) &&
-                     finite_non_negative(entry.at("translation_sigma_m")[1]) &&
-                     finite_non_negative(entry.at("translation_sigma_m")[2]) && finite_non_negative(entry.at("noise_ratio"));
+                     three_finite_non_negative(entry.at("translation_sigma_m")) &&
+                     (finite_non_negative(entry.at("noise_ratio")) || three_finite_non_negative(entry.at("noise_ratio")));
   if (!valid) {
     throw InputError(path, 0, "malformed registration calibration in the model metadata (want translation_sigma_m: "
-                              "[3 numbers >= 0], noise_ratio: number >= 0)");
+                              "[3 numbers >= 0], noise_ratio: number >= 0 or [3 numbers >= 0])");
   }
   RegistrationPrior prior;
   const nlohmann::json& sigma = entry.at("translation_sigma_m");
   prior.translation_sigma = Vector3d(sigma[0].get<double>(), sigma[1].get<double>(), sigma[2].get<double>());
-  prior.noise_ratio = entry.at("noise_ratio").get<double>();
+  const nlohmann::json& ratio = entry.at("noise_ratio");
+  prior.noise_ratio = ratio.is_array() ? Vector3d(ratio[0].get<double>(), ratio[1].get<double>(), ratio[2].get<double>())
+                                       : Vector3d::Constant(ratio.get<double>());
   return prior;
 }
 

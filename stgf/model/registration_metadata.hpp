@@ -3,6 +3,8 @@
 // The registration prior (core/view_registration.hpp) as stored in a model file's metadata, next to
 // the Q it was calibrated with (both from the validation split of the training benchmark):
 //   "registration": {"translation_sigma_m": [σx, σy, σz], "noise_ratio": α, "calibrated_on": "..."}
+// "noise_ratio" is one number when α is the same along, across and vertical to each ray (every
+// model before α per axis, and so read), else [α_along, α_across, α_vertical].
 
 #include <optional>
 #include <string>

@@ -604,6 +604,14 @@ TEST_F(Cli, TrainThenRunLearnedMethods) {
   EXPECT_THAT(slurp(directory_ / "half.pt"), HasSubstr("\"weights\":\"float16\""));
   ASSERT_EQ(stgf("run --method ours --model half.pt" + test_rows + " --out ours-half.csv").status, 0);
   EXPECT_NE(stgf("train --benchmark bench --out bad.pt --epochs 1 --weights float8").status, 0);
+  // --noise-ratio per-axis: α along, across and vertical to the rays, logged and stored as three
+  // (or as one number when the three come out equal), and the model runs.
+  const Result axes = stgf(
+      "train --benchmark bench --out axes.pt --input fused --epochs 1 --batch 8 --threads 1 --noise-ratio per-axis");
+  ASSERT_EQ(axes.status, 0) << axes.err;
+  EXPECT_THAT(axes.err, HasSubstr("noise ratio"));
+  ASSERT_EQ(stgf("run --method ours --model axes.pt" + test_rows + " --out ours-axes.csv").status, 0);
+  EXPECT_NE(stgf("train --benchmark bench --out bad.pt --epochs 1 --noise-ratio two").status, 0);
   const Result fresh =
       stgf("train --benchmark bench --out fresh.pt --input fused --epochs 1 --batch 8 --threads 1 --resume slim.pt");
   ASSERT_EQ(fresh.status, 0) << fresh.err;

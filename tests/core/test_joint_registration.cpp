@@ -299,14 +299,14 @@ void run_scenario(const RegistrationPrior& prior, std::uint64_t seed, int object
 TEST(JointRegistration, EqualsTheDenseJointKalmanFilter) {
   RegistrationPrior prior;
   prior.translation_sigma = Vector3d(0.2, 0.3, 0.1);
-  prior.noise_ratio = 0.5;
+  prior.noise_ratio = Vector3d::Constant(0.5);
   for (std::uint64_t seed : {1u, 2u, 3u}) run_scenario(prior, seed);
 }
 
 TEST(JointRegistration, EqualsTheDenseJointKalmanFilterWithAPriorSingularOnZ) {
   RegistrationPrior prior;
   prior.translation_sigma = Vector3d(0.1, 0.1, 0.0);  // as the benchmarks' ground-plane views
-  prior.noise_ratio = 0.3;
+  prior.noise_ratio = Vector3d::Constant(0.3);
   for (std::uint64_t seed : {4u, 5u}) run_scenario(prior, seed);
 }
 
@@ -315,7 +315,7 @@ TEST(JointRegistration, EqualsTheDenseJointKalmanFilterWithAPriorSingularOnZ) {
 TEST(JointRegistration, EqualsTheDenseJointKalmanFilterWithManyObjects) {
   RegistrationPrior prior;
   prior.translation_sigma = Vector3d(0.2, 0.3, 0.1);
-  prior.noise_ratio = 0.5;
+  prior.noise_ratio = Vector3d::Constant(0.5);
   for (std::uint64_t seed : {6u, 7u}) run_scenario(prior, seed, 14);
 }
 

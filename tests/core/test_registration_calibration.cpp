@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: Apache-2.0
 // Calibrating the registration prior (core/registration_calibration.hpp) by marginal likelihood:
-// on data drawn from the model it recovers σ_t and α (including an axis with no offset), against the
+// on data drawn from the model it recovers σ_t and α (including an axis with no offset, and α per axis
+// of each measurement's ray), against the
 // truth and without it (from the views' disagreements), on data without offsets it finds none, and
 // mismatched inputs are rejected.
 
@@ -15,6 +16,7 @@
 
 #include "stgf/core/registration_calibration.hpp"
 #include "support/random_spd.hpp"
+#include "support/registration_offset.hpp"
 
 namespace stgf {
 namespace {
@@ -26,6 +28,8 @@ struct Simulated {
   std::vector<Vector3d> truth;
 };
 
+using testing::draw_offset;
+
 // `scenes` × `views` groups of `rows` measurements, z = y + [I L] β_g + e with β_g drawn from the
 // prior once per (scene, view) and R varied per row (σ from 3 cm to 50 cm, anisotropic, rotated) so
 // that t and L δ can be told apart.
@@ -36,9 +40,7 @@ Simulated simulate(const RegistrationPrior& prior, int scenes, int views, int ro
   Simulated data;
   for (int scene = 0; scene < scenes; ++scene) {
     for (int view = 0; view < views; ++view) {
-      Vector6d offset;
-      for (int axis = 0; axis < 3; ++axis) offset[axis] = prior.translation_sigma[axis] * normal(rng);
-      for (int axis = 3; axis < 6; ++axis) offset[axis] = prior.noise_ratio * normal(rng);
+      const Vector6d offset = draw_offset(prior, rng);
       for (int row = 0; row < rows; ++row) {
         const Vector3d truth(40.0 * unit(rng) - 20.0, 40.0 * unit(rng) - 20.0, 2.0 * unit(rng));
         const double scale = std::pow(10.0, -3.0 + 2.4 * unit(rng));
@@ -59,7 +61,7 @@ Simulated simulate(const RegistrationPrior& prior, int scenes, int views, int ro
 TEST(RegistrationCalibration, RecoversThePriorTheDataWereDrawnFrom) {
   RegistrationPrior prior;
   prior.translation_sigma = Vector3d(0.3, 0.2, 0.0);
-  prior.noise_ratio = 0.5;
+  prior.noise_ratio = Vector3d::Constant(0.5);
   const Simulated data = simulate(prior, 125, 4, 20, 7);
   const RegistrationCalibration calibration = calibrate_registration_prior(data.measurements, data.truth);
   EXPECT_EQ(calibration.groups, 500u);
@@ -67,8 +69,62 @@ TEST(RegistrationCalibration, RecoversThePriorTheDataWereDrawnFrom) {
   EXPECT_NEAR(sigma.x(), 0.3, 0.2 * 0.3) << sigma.transpose();
   EXPECT_NEAR(sigma.y(), 0.2, 0.2 * 0.2) << sigma.transpose();
   EXPECT_LT(sigma.z(), 0.02) << sigma.transpose();
-  EXPECT_NEAR(calibration.prior.noise_ratio, 0.5, 0.25 * 0.5);
+  for (int axis = 0; axis < 3; ++axis) EXPECT_NEAR(calibration.prior.noise_ratio[axis], 0.5, 0.4 * 0.5) << axis;
   EXPECT_GT(calibration.log_likelihood_gain, 1.0);  // nats per group over "no offsets"
+}
+
+// Sensors around the scene, each measurement's R long along its ray (depth) and short across it, as
+// a camera's ground points or a vehicle's detections are, and the offset in noise units drawn with α
+// per axis of the ray's frame (offset_jacobian: along the ray, across it, vertical).
+Simulated simulate_rays(const RegistrationPrior& prior, int scenes, int views, int rows, std::uint64_t seed) {
+  Simulated data;
+  std::mt19937_64 rng(seed);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  std::normal_distribution<double> normal;
+  for (int group = 0; group < scenes * views; ++group) {
+    const double bearing = 2.0 * M_PI * unit(rng);
+    const Vector3d sensor(30.0 * std::cos(bearing), 30.0 * std::sin(bearing), 5.0);
+    const Vector6d offset = draw_offset(prior, rng);
+    for (int row = 0; row < rows; ++row) {
+      const Vector3d truth(20.0 * unit(rng) - 10.0, 20.0 * unit(rng) - 10.0, 0.0);
+      const Vector3d ray = truth - sensor;
+      const double range = ray.head<2>().norm();
+      Matrix3d turn;  // x along the ray's heading
+      turn << ray.x() / range, -ray.y() / range, 0, ray.y() / range, ray.x() / range, 0, 0, 0, 1;
+      const Vector3d sigma(0.01 * range, 0.003 * range, 0.004 * range);
+      const Matrix3d r = turn * sigma.cwiseProduct(sigma).asDiagonal() * turn.transpose();
+      Measurement measurement{"scene" + std::to_string(group / views), 0.1 * row, "view" + std::to_string(group % views),
+                              "o" + std::to_string(row), Gaussian3::from_covariance(truth, r), sensor, std::nullopt};
+      const Eigen::Matrix<double, 3, 6> h = offset_jacobian(measurement);
+      const Vector3d noise(normal(rng), normal(rng), normal(rng));
+      measurement.position = Gaussian3::from_covariance(truth + h * offset + h.rightCols<3>() * noise, r);
+      data.measurements.push_back(std::move(measurement));
+      data.truth.push_back(truth);
+    }
+  }
+  return data;
+}
+
+TEST(RegistrationCalibration, RecoversAlphaPerAxisOfTheRays) {
+  // Offsets across the rays only, as a vehicle's heading error gives, and some vertical: one α for
+  // all three axes could only take their compromise.
+  RegistrationPrior prior;
+  prior.translation_sigma = Vector3d(0.2, 0.2, 0.0);
+  prior.noise_ratio = Vector3d(0.0, 1.0, 0.4);
+  const Simulated data = simulate_rays(prior, 125, 4, 20, 23);
+  const RegistrationCalibration calibration =
+      calibrate_registration_prior(data.measurements, data.truth, NoiseRatioAxes::kPerAxis);
+  const Vector3d& alpha = calibration.prior.noise_ratio;
+  EXPECT_LT(alpha.x(), 0.2) << alpha.transpose();
+  EXPECT_NEAR(alpha.y(), 1.0, 0.25) << alpha.transpose();
+  EXPECT_NEAR(alpha.z(), 0.4, 0.2) << alpha.transpose();
+  EXPECT_NEAR(calibration.prior.translation_sigma.x(), 0.2, 0.06) << calibration.prior.translation_sigma.transpose();
+  // By default one α for all three axes: their compromise, and a lower likelihood.
+  const RegistrationCalibration one = calibrate_registration_prior(data.measurements, data.truth);
+  EXPECT_TRUE(one.prior.noise_ratio.isConstant(one.prior.noise_ratio.x())) << one.prior.noise_ratio.transpose();
+  EXPECT_GT(one.prior.noise_ratio.x(), 0.2);
+  EXPECT_LT(one.prior.noise_ratio.x(), 1.0);
+  EXPECT_GT(calibration.log_likelihood_gain, one.log_likelihood_gain + 0.1);
 }
 
 TEST(RegistrationCalibration, FindsNoOffsetWhereThereIsNone) {
@@ -78,7 +134,7 @@ TEST(RegistrationCalibration, FindsNoOffsetWhereThereIsNone) {
   const Vector3d& sigma = calibration.prior.translation_sigma;
   EXPECT_LT(sigma.maxCoeff(), 0.02) << sigma.transpose();
   EXPECT_GE(sigma.minCoeff(), 0.0);
-  EXPECT_LT(calibration.prior.noise_ratio, 0.1);
+  EXPECT_LT(calibration.prior.noise_ratio.maxCoeff(), 0.1) << calibration.prior.noise_ratio.transpose();
   EXPECT_GE(calibration.log_likelihood_gain, 0.0);
   EXPECT_LT(calibration.log_likelihood_gain, 0.05);
 }
@@ -97,7 +153,7 @@ std::vector<Measurement> simulate_shared(const RegistrationPrior& prior, int sce
     std::vector<Vector6d> offsets(static_cast<std::size_t>(views));
     for (Vector6d& offset : offsets) {
       for (int axis = 0; axis < 3; ++axis) offset[axis] = prior.translation_sigma[axis] * normal(rng);
-      for (int axis = 3; axis < 6; ++axis) offset[axis] = prior.noise_ratio * normal(rng);
+      for (int axis = 3; axis < 6; ++axis) offset[axis] = prior.noise_ratio[axis - 3] * normal(rng);
     }
     for (int time = 0; time < times; ++time) {
       for (int object = 0; object < objects; ++object) {
@@ -123,7 +179,7 @@ std::vector<Measurement> simulate_shared(const RegistrationPrior& prior, int sce
 TEST(RegistrationCalibration, RecoversThePriorFromTheViewsDisagreementsWithoutTruth) {
   RegistrationPrior prior;
   prior.translation_sigma = Vector3d(0.3, 0.2, 0.0);
-  prior.noise_ratio = 0.5;
+  prior.noise_ratio = Vector3d::Constant(0.5);
   const std::vector<Measurement> measurements = simulate_shared(prior, 125, 4, 2, 10, 17);
   const RegistrationCalibration calibration = calibrate_registration_prior_from_disagreements(measurements);
   EXPECT_EQ(calibration.groups, 125u);  // one per scene
@@ -132,7 +188,7 @@ TEST(RegistrationCalibration, RecoversThePriorFromTheViewsDisagreementsWithoutTr
   EXPECT_NEAR(sigma.x(), 0.3, 0.25 * 0.3) << sigma.transpose();
   EXPECT_NEAR(sigma.y(), 0.2, 0.25 * 0.2) << sigma.transpose();
   EXPECT_LT(sigma.z(), 0.02) << sigma.transpose();
-  EXPECT_NEAR(calibration.prior.noise_ratio, 0.5, 0.3 * 0.5);
+  for (int axis = 0; axis < 3; ++axis) EXPECT_NEAR(calibration.prior.noise_ratio[axis], 0.5, 0.45 * 0.5) << axis;
   EXPECT_GT(calibration.log_likelihood_gain, 1.0);
 }
 
@@ -140,7 +196,7 @@ TEST(RegistrationCalibration, FindsNoOffsetInDisagreementsWhereThereIsNone) {
   const std::vector<Measurement> measurements = simulate_shared(RegistrationPrior{}, 125, 4, 2, 10, 18);
   const RegistrationCalibration calibration = calibrate_registration_prior_from_disagreements(measurements);
   EXPECT_LT(calibration.prior.translation_sigma.maxCoeff(), 0.02) << calibration.prior.translation_sigma.transpose();
-  EXPECT_LT(calibration.prior.noise_ratio, 0.1);
+  EXPECT_LT(calibration.prior.noise_ratio.maxCoeff(), 0.1) << calibration.prior.noise_ratio.transpose();
   EXPECT_LT(calibration.log_likelihood_gain, 0.05);
 }
 

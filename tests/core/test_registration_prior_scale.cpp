@@ -107,7 +107,7 @@ TEST(RegistrationPriorScale, RejectsABadCoordinateAndMismatchedSizes) {
   EXPECT_FALSE(scale.update());  // no evidence yet
 }
 
-const RegistrationPrior kPrior{Vector3d(0.05, 0.05, 0.0), 0.3};
+const RegistrationPrior kPrior{Vector3d(0.05, 0.05, 0.0), Vector3d::Constant(0.3)};
 
 // One scene: `views` views, each with an offset drawn from kPrior's Σ₀ with its translation scaled by
 // κ_t and its offset in units of the noise by κ_n (both `true_scale` unless given), measure `objects`

@@ -20,6 +20,7 @@
 #include "stgf/core/multi_view_update.hpp"
 #include "stgf/core/view_registration.hpp"
 #include "support/random_spd.hpp"
+#include "support/registration_offset.hpp"
 
 namespace stgf {
 namespace {
@@ -56,13 +57,7 @@ Vector3d measure(const Vector3d& truth, const Vector6d& offset, const Matrix3d& 
   return truth + offset_jacobian(r) * offset + factor * unit;
 }
 
-Vector6d draw_offset(const RegistrationPrior& prior, std::mt19937_64& rng) {
-  std::normal_distribution<double> normal;
-  Vector6d offset;
-  for (int axis = 0; axis < 3; ++axis) offset[axis] = prior.translation_sigma[axis] * normal(rng);
-  for (int axis = 3; axis < 6; ++axis) offset[axis] = prior.noise_ratio * normal(rng);
-  return offset;
-}
+using testing::draw_offset;
 
 Vector3d uniform_point(std::mt19937_64& rng, double half_width) {
   std::uniform_real_distribution<double> uniform(-half_width, half_width);
@@ -143,7 +138,7 @@ TEST(ViewRegistration, ZeroPriorIsTheInformationWeightedMeanAndLearnsNothing) {
 TEST(ViewRegistration, SingleViewNeverLearnsAndCarriesItsWholePrior) {
   RegistrationPrior prior;
   prior.translation_sigma = Vector3d(0.3, 0.2, 0.1);
-  prior.noise_ratio = 0.5;
+  prior.noise_ratio = Vector3d::Constant(0.5);
   Eigen::Matrix<double, 6, 6> prior_covariance = Eigen::Matrix<double, 6, 6>::Zero();
   prior_covariance.diagonal() << 0.3 * 0.3, 0.2 * 0.2, 0.1 * 0.1, 0.5 * 0.5, 0.5 * 0.5, 0.5 * 0.5;
 
@@ -190,7 +185,7 @@ TEST(ViewRegistration, SingleViewNeverLearnsAndCarriesItsWholePrior) {
 TEST(ViewRegistration, TwoViewsLearnTheirDifferenceAndKeepTheCommonModeAtThePrior) {
   RegistrationPrior prior;
   prior.translation_sigma = Vector3d::Constant(0.5);
-  prior.noise_ratio = 1.0;
+  prior.noise_ratio = Vector3d::Constant(1.0);
   const double noise_sigma = 0.05;
   const Matrix3d r = noise_sigma * noise_sigma * Matrix3d::Identity();
   const Matrix36 h = offset_jacobian(r);
@@ -253,7 +248,7 @@ TEST(ViewRegistration, TwoViewsLearnTheirDifferenceAndKeepTheCommonModeAtThePrio
 TEST(ViewRegistration, CombineCorrectsAPreciseBiasedView) {
   RegistrationPrior prior;
   prior.translation_sigma = Vector3d::Constant(2.0);
-  prior.noise_ratio = 0.0;
+  prior.noise_ratio = Vector3d::Constant(0.0);
   const Vector3d bias(1.5, -1.0, 0.3);
   const std::vector<std::string> views = {"a", "b", "c", "d"};
   const Matrix3d coarse = 0.1 * 0.1 * Matrix3d::Identity();
@@ -311,7 +306,7 @@ TEST(ViewRegistration, CombineCorrectsAPreciseBiasedView) {
 TEST(ViewRegistration, CombinedCovarianceIsConsistent) {
   RegistrationPrior prior;
   prior.translation_sigma = Vector3d(0.3, 0.2, 0.1);
-  prior.noise_ratio = 0.5;
+  prior.noise_ratio = Vector3d::Constant(0.5);
   const std::vector<std::string> views = {"a", "b", "c"};
   std::mt19937_64 rng(7);
   std::uniform_real_distribution<double> unit(0.0, 1.0);
@@ -365,7 +360,7 @@ TEST(ViewRegistration, CombinedCovarianceIsConsistent) {
 TEST(ViewRegistration, OrderOfRowsWithinAStepDoesNotMatter) {
   RegistrationPrior prior;
   prior.translation_sigma = Vector3d(0.3, 0.2, 0.1);
-  prior.noise_ratio = 0.5;
+  prior.noise_ratio = Vector3d::Constant(0.5);
   std::mt19937_64 rng(3);
   ViewRegistration forward(prior), shuffled(prior);
   const std::vector<std::string> views = {"a", "b", "c"};
@@ -420,7 +415,7 @@ TEST(ViewRegistration, InvalidPriorThrows) {
   }
   for (const double ratio : {-0.5, nan, inf}) {
     RegistrationPrior prior;
-    prior.noise_ratio = ratio;
+    prior.noise_ratio = Vector3d::Constant(ratio);
     EXPECT_THROW(ViewRegistration{prior}, std::invalid_argument) << ratio;
   }
   RegistrationPrior valid;

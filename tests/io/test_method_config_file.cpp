@@ -91,7 +91,7 @@ TEST(MethodConfigFile, ReadsOursSettings) {
   ASSERT_TRUE(listed.ours.translation_sigma.has_value());
   EXPECT_EQ(*listed.ours.translation_sigma, Vector3d(0.3, 0.2, 0.0));
   ASSERT_TRUE(listed.ours.noise_ratio.has_value());
-  EXPECT_DOUBLE_EQ(*listed.ours.noise_ratio, 0.5);
+  EXPECT_EQ(*listed.ours.noise_ratio, Vector3d::Constant(0.5));
   EXPECT_DOUBLE_EQ(listed.mmt.position_noise_density, 10.0);  // the other section keeps its defaults
 
   // One number: the same σ on every axis; a ratio of 0 is allowed (no noise-unit offset).
@@ -103,7 +103,12 @@ TEST(MethodConfigFile, ReadsOursSettings) {
   ASSERT_TRUE(scalar.ours.translation_sigma.has_value());
   EXPECT_EQ(*scalar.ours.translation_sigma, Vector3d::Constant(0.25));
   ASSERT_TRUE(scalar.ours.noise_ratio.has_value());
-  EXPECT_EQ(*scalar.ours.noise_ratio, 0.0);
+  EXPECT_EQ(*scalar.ours.noise_ratio, Vector3d::Zero());
+  // A list of three: α along, across and vertical to each measurement's ray.
+  const MethodConfig axes =
+      parse_method_config("c.yaml", "ours:\n  registration_noise_ratio: [0.1, 0.6, 0.3]\n");
+  ASSERT_TRUE(axes.ours.noise_ratio.has_value());
+  EXPECT_EQ(*axes.ours.noise_ratio, Vector3d(0.1, 0.6, 0.3));
   EXPECT_DOUBLE_EQ(scalar.mmt.velocity_noise_density, 2.0);
 
   EXPECT_TRUE(parse_method_config("c.yaml", "ours:\n  registration: true\n").ours.registration);

@@ -49,7 +49,7 @@ void expect_close(const std::vector<Gaussian3>& a, const std::vector<Gaussian3>&
 TEST(FilterRunner, MatchesSceneBySceneWithAConstantVelocityPredictor) {
   const std::vector<Measurement> rows = synthetic_scenes();
   const ConstantVelocityPredictor predictor(0.5, 1.2, /*horizon=*/0.35);
-  const SpatiotemporalGraphFilter::Options options{RegistrationPrior{Vector3d(0.1, 0.1, 0.0), 0.3}, true};
+  const SpatiotemporalGraphFilter::Options options{RegistrationPrior{Vector3d(0.1, 0.1, 0.0), Vector3d::Constant(0.3)}, true};
   const FilterRun run = run_spatiotemporal_graph_filter(predictor, options, rows, /*keep_predictions=*/true);
   expect_close(run.estimates, scene_by_scene(predictor, options, rows), 0.0);
   ASSERT_EQ(run.predictions.size(), rows.size());
@@ -62,7 +62,7 @@ TEST(FilterRunner, MatchesSceneBySceneWithTheLearnedModel) {
   MotionModelShape shape;
   shape.history_length = 4;
   const MotionModel model(shape, MotionNormalisation{1.2, 0.1, 5.0, 0.1}, 7);
-  const SpatiotemporalGraphFilter::Options options{RegistrationPrior{Vector3d(0.1, 0.1, 0.0), 0.3}, true};
+  const SpatiotemporalGraphFilter::Options options{RegistrationPrior{Vector3d(0.1, 0.1, 0.0), Vector3d::Constant(0.3)}, true};
   const FilterRun run = run_spatiotemporal_graph_filter(model, options, rows);
   expect_close(run.estimates, scene_by_scene(model, options, rows), 0.0);
   // Deterministic.

@@ -15,7 +15,7 @@ using testing::expect_input_error;
 RegistrationPrior calibrated_prior() {
   RegistrationPrior prior;
   prior.translation_sigma = Vector3d(0.3, 0.2, 0.05);
-  prior.noise_ratio = 0.7;
+  prior.noise_ratio = Vector3d::Constant(0.7);
   return prior;
 }
 
@@ -92,7 +92,7 @@ TEST(RegistrationMetadata, RegistrationOffGivesTheZeroPrior) {
   OursSettings settings;
   settings.registration = false;
   settings.translation_sigma = Vector3d::Constant(1.0);
-  settings.noise_ratio = 2.0;
+  settings.noise_ratio = Vector3d::Constant(2.0);
   bool missing = true;
   const RegistrationPrior prior =
       resolve_registration_prior(settings, metadata_with(calibrated_prior()), "m.pt", &missing);
@@ -120,11 +120,11 @@ TEST(RegistrationMetadata, CalibrationIsUsedAndOverridesApply) {
   }
   {
     OursSettings settings;
-    settings.noise_ratio = 0.0;
+    settings.noise_ratio = Vector3d::Constant(0.0);
     missing = true;
     const RegistrationPrior prior = resolve_registration_prior(settings, metadata, "m.pt", &missing);
     EXPECT_EQ(prior.translation_sigma, calibrated_prior().translation_sigma);
-    EXPECT_EQ(prior.noise_ratio, 0.0);
+    EXPECT_EQ(prior.noise_ratio, Vector3d::Zero());
     EXPECT_FALSE(missing);
   }
 }
@@ -144,17 +144,17 @@ TEST(RegistrationMetadata, MissingWhenNeitherCalibratedNorFullySet) {
     missing = false;
     const RegistrationPrior prior = resolve_registration_prior(settings, uncalibrated, "m.pt", &missing);
     EXPECT_EQ(prior.translation_sigma, Vector3d(0.5, 0.5, 0.1));
-    EXPECT_EQ(prior.noise_ratio, 0.0);
+    EXPECT_EQ(prior.noise_ratio, Vector3d::Zero());
     EXPECT_TRUE(missing);
   }
   {
     OursSettings settings;
     settings.translation_sigma = Vector3d(0.5, 0.5, 0.1);
-    settings.noise_ratio = 0.3;
+    settings.noise_ratio = Vector3d::Constant(0.3);
     missing = true;
     const RegistrationPrior prior = resolve_registration_prior(settings, uncalibrated, "m.pt", &missing);
     EXPECT_EQ(prior.translation_sigma, Vector3d(0.5, 0.5, 0.1));
-    EXPECT_EQ(prior.noise_ratio, 0.3);
+    EXPECT_EQ(prior.noise_ratio, Vector3d::Constant(0.3));
     EXPECT_FALSE(missing);
   }
   // `missing` is optional.

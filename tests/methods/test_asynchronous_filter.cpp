@@ -58,7 +58,7 @@ Stream make_stream(int frames, bool asynchronous, std::uint64_t seed) {
 
 FilterOptions options_with_registration() {
   FilterOptions options;
-  options.registration = RegistrationPrior{Vector3d(0.3, 0.3, 0.05), 0.2};
+  options.registration = RegistrationPrior{Vector3d(0.3, 0.3, 0.05), Vector3d::Constant(0.2)};
   return options;
 }
 

@@ -144,7 +144,7 @@ TEST(SpatiotemporalGraphFilter, TrackUnseenBeyondTheHorizonStartsAgain) {
 TEST(SpatiotemporalGraphFilter, EstimatesDoNotDependOnWhereTheWorldOriginIs) {
   const ConstantVelocityPredictor predictor(0.2, 1.0);
   const Vector3d origin(512345.0, 4123456.0, 210.0);
-  for (const RegistrationPrior& registration : {RegistrationPrior{}, RegistrationPrior{Vector3d(0.2, 0.2, 0.0), 0.5}}) {
+  for (const RegistrationPrior& registration : {RegistrationPrior{}, RegistrationPrior{Vector3d(0.2, 0.2, 0.0), Vector3d::Constant(0.5)}}) {
     SpatiotemporalGraphFilter near(predictor, {registration, true}), far(predictor, {registration, true});
     std::mt19937_64 random(4);
     std::normal_distribution<double> normal;
@@ -226,7 +226,7 @@ TEST(SpatiotemporalGraphFilter, AdaptsQWhenPredictionsAreWorseThanItSays) {
 TEST(SpatiotemporalGraphFilter, LearnsQFromTheViewsCombinedInnovation) {
   const ConstantVelocityPredictor predictor(1e-5, 1.0);
   FilterOptions options;
-  options.registration = RegistrationPrior{Vector3d(0.01, 0.01, 0.0), 0.1};
+  options.registration = RegistrationPrior{Vector3d(0.01, 0.01, 0.0), Vector3d::Constant(0.1)};
   options.gate.enabled = false;
   options.motion_fallback = MotionFallback::kOff;
   SpatiotemporalGraphFilter filter(predictor, options);
@@ -438,7 +438,7 @@ FaultyViewRun run_with_faulty_view(double lag_window, int from, Fault fault, con
   options.gate.enabled = true;
   options.lag_window = lag_window;
   options.registration.translation_sigma = Vector3d(0.1, 0.1, 0.0);
-  options.registration.noise_ratio = 0.0;
+  options.registration.noise_ratio = Vector3d::Constant(0.0);
   SpatiotemporalGraphFilter filter(predictor, options);
   std::mt19937_64 random(11);
   std::normal_distribution<double> normal;
