@@ -120,6 +120,15 @@ double non_negative_number(const std::string& path, const std::string& key, cons
   return value;
 }
 
+// One number >= 0 for all three components, or a list of three (`axes` names them in the message).
+Vector3d one_or_three_non_negative(const std::string& path, const std::string& key, const YAML::Node& node,
+                                   const std::string& axes) {
+  if (!node.IsSequence()) return Vector3d::Constant(non_negative_number(path, key, node));
+  if (node.size() != 3) throw InputError(path, line_of(node), key + " must be one number or a list of three (" + axes + ")");
+  return {non_negative_number(path, key, node[0]), non_negative_number(path, key, node[1]),
+          non_negative_number(path, key, node[2])};
+}
+
 // One of `choices` (a YAML string).
 std::string one_of(const std::string& path, const std::string& key, const YAML::Node& node,
                    const std::vector<std::string>& choices) {
@@ -146,15 +155,7 @@ void read_ours(const std::string& path, const YAML::Node& node, OursSettings& se
         throw InputError(path, line_of(entry.second), name + " must be true or false");
       }
     } else if (key == "registration_translation_sigma_m") {
-      const YAML::Node& value = entry.second;
-      if (value.IsSequence()) {
-        if (value.size() != 3) throw InputError(path, line_of(value), name + " must be one number or a list of three (x, y, z)");
-        settings.translation_sigma = Vector3d(non_negative_number(path, name, value[0]),
-                                              non_negative_number(path, name, value[1]),
-                                              non_negative_number(path, name, value[2]));
-      } else {
-        settings.translation_sigma = Vector3d::Constant(non_negative_number(path, name, value));
-      }
+      settings.translation_sigma = one_or_three_non_negative(path, name, entry.second, "x, y, z");
     } else if (key == "adapt_process_noise") {
       try {
         settings.adapt_process_noise = entry.second.as<bool>();
@@ -173,16 +174,7 @@ void read_ours(const std::string& path, const YAML::Node& node, OursSettings& se
         throw InputError(path, line_of(entry.second), name + " must be true or false");
       }
     } else if (key == "registration_noise_ratio") {
-      const YAML::Node& value = entry.second;
-      if (value.IsSequence()) {
-        if (value.size() != 3) {
-          throw InputError(path, line_of(value), name + " must be one number or a list of three (along, across, vertical)");
-        }
-        settings.noise_ratio = Vector3d(non_negative_number(path, name, value[0]), non_negative_number(path, name, value[1]),
-                                        non_negative_number(path, name, value[2]));
-      } else {
-        settings.noise_ratio = Vector3d::Constant(non_negative_number(path, name, value));
-      }
+      settings.noise_ratio = one_or_three_non_negative(path, name, entry.second, "along, across, vertical");
     } else if (key == "tracks") {
       settings.per_view_tracks = one_of(path, name, entry.second, {"per-object", "per-view"}) == "per-view";
     } else if (key == "lag_window_s") {

@@ -122,6 +122,10 @@ TEST(MethodConfigFile, OursErrorsNameTheLine) {
   EXPECT_EQ(
       error_of("ours:\n  registration_translation_sigma_m: [0.3, 0.2]\n"),
       "c.yaml:2: ours.registration_translation_sigma_m must be one number or a list of three (x, y, z)");
+  EXPECT_EQ(error_of("ours:\n  registration_noise_ratio: [0.3, 0.2, 0.1, 0.0]\n"),
+            "c.yaml:2: ours.registration_noise_ratio must be one number or a list of three (along, across, vertical)");
+  EXPECT_EQ(error_of("ours:\n  registration_noise_ratio: [0.3, -0.2, 0.1]\n"),
+            "c.yaml:2: ours.registration_noise_ratio must be a finite number >= 0");
   EXPECT_EQ(error_of("ours:\n  registration_translation_sigma_m:\n    - 0.3\n    - -0.2\n    - 0\n"),
             "c.yaml:4: ours.registration_translation_sigma_m must be a finite number >= 0");
   EXPECT_EQ(error_of("ours:\n  registration_translation_sigma_m: -1\n"),
