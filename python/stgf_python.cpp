@@ -208,7 +208,7 @@ class Filter {
   }
 
   py::array registration_offset(const std::string& view) const {
-    const Eigen::Matrix<double, 6, 1> offset = filter_->registration_offset(view);
+    const OffsetVector offset = filter_->registration_offset(view);
     Array out(py::ssize_t{6});
     for (int k = 0; k < 6; ++k) out.mutable_at(k) = offset(k);
     return std::move(out);

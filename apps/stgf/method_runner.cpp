@@ -50,7 +50,7 @@ void log_registration_prior_scales(const std::string& method, const std::vector<
       return 0;
     };
     const int t = prior.translation_sigma.isZero() ? 0 : direction(translation);
-    const int n = prior.noise_ratio.isZero() ? 0 : direction(noise_ratio);
+    const int n = prior.noise_ratio.isZero() && prior.range_scale_sigma == 0.0 ? 0 : direction(noise_ratio);
     if (t != 0 || n != 0) {
       const double kt = std::sqrt(at(translation, 0.5)), kn = std::sqrt(at(noise_ratio, 0.5));
       const auto bound = [](int d) { return d > 0 ? "at least" : "at most"; };
@@ -60,11 +60,15 @@ void log_registration_prior_scales(const std::string& method, const std::vector<
                                   prior.translation_sigma.x() * kt, prior.translation_sigma.y() * kt,
                                   prior.translation_sigma.z() * kt);
       }
-      if (n != 0) {
+      if (n != 0 && !prior.noise_ratio.isZero()) {
         const Vector3d ratio = prior.noise_ratio * kn;
         suggestion += fmt::format("{}registration_noise_ratio {} ", suggestion.empty() ? "" : ", ", bound(n));
         suggestion += ratio.isConstant(ratio.x()) ? fmt::format("{:.3g}", ratio.x())
                                                   : fmt::format("[{:.3g}, {:.3g}, {:.3g}]", ratio.x(), ratio.y(), ratio.z());
+      }
+      if (n != 0 && prior.range_scale_sigma > 0.0) {
+        suggestion += fmt::format("{}registration_range_scale_sigma {} {:.3g}", suggestion.empty() ? "" : ", ", bound(n),
+                                  prior.range_scale_sigma * kn);
       }
       spdlog::info("{}: these views' offsets do not fit the registration prior in use: each scene learns its own "
                    "scale, but only within a few times of the prior's, and a short scene less. If you know your "

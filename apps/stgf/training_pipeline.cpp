@@ -290,8 +290,8 @@ void train_model(ModelTraining options) {
   // The views' registration prior, on the validation split (of every benchmark together).
   const NoiseRatioAxes axes = options.noise_ratio == "per-axis" ? NoiseRatioAxes::kPerAxis : NoiseRatioAxes::kOne;
   RegistrationCalibration calibrated =
-      with_truth ? calibrate_registration_prior(validation.measurements, validation.target_of_row, axes)
-                 : calibrate_registration_prior_from_disagreements(validation.measurements, axes);
+      with_truth ? calibrate_registration_prior(validation.measurements, validation.target_of_row, axes, options.range_scale)
+                 : calibrate_registration_prior_from_disagreements(validation.measurements, axes, options.range_scale);
   if (options.rotate) {  // a prior that does not depend on the world frame's heading either
     Vector3d& sigma = calibrated.prior.translation_sigma;
     sigma.x() = sigma.y() = std::sqrt(0.5 * (sigma.x() * sigma.x() + sigma.y() * sigma.y()));
@@ -313,6 +313,7 @@ void train_model(ModelTraining options) {
                    ? fmt::format("{:.3g}", ratio.x())
                    : fmt::format("along, across, vertical to the rays ({:.3g}, {:.3g}, {:.3g})", ratio.x(), ratio.y(),
                                  ratio.z()));
+  if (options.range_scale) spdlog::info("registration range scale sigma {:.3g}", registration.range_scale_sigma);
   options.training.metadata["registration"] = registration_prior_to_json(registration);
   std::string calibrated_on;
   for (const std::string& benchmark : options.benchmarks) {

@@ -45,6 +45,8 @@ struct ModelTraining {
   // The registration prior's α: one for all three axes of δ, or one per axis of the rays' frame
   // (registration_calibration.hpp: NoiseRatioAxes): one | per-axis.
   std::string noise_ratio = "one";
+  // Also calibrate σ_ε of each view's range scale (registration_calibration.hpp); off: none.
+  bool range_scale = false;
   bool rotate = false;  // turn each training graph by a random heading every epoch (MotionTrainingOptions::rotate)
   // Q also calibrated at intervals up to this many seconds (calibrate_process_noise_intervals), so that
   // tracks coast across missed frames and low frame rates; 0: off.

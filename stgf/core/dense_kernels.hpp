@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: Apache-2.0
 #pragma once
 // Dense kernels for the joint registration's offsets (joint_registration.hpp): a symmetric positive
-// definite M of order c — six per view, so tens to a few hundred — kept as its lower triangle, its
+// definite M of order c — up to seven per view, so tens to a few hundred — kept as its lower triangle, its
 // Cholesky factor M = L Lᵀ, and triangular solves and rank-3 updates with a few right-hand sides.
 // At these sizes Eigen's blocked kernels spend more on packing than on arithmetic; these are written
 // column by column instead (measured: the factor of c = 35 in 1.8 µs against Eigen's LLT's 3.7 µs),

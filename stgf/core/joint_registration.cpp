@@ -12,17 +12,17 @@
 #include "stgf/core/dense_kernels.hpp"
 
 namespace stgf {
-using Matrix36 = Eigen::Matrix<double, 3, 6>;
+using Matrix36 = OffsetJacobian;
 using Matrix3X = Eigen::Matrix<double, 3, Eigen::Dynamic>;
 
 namespace {
 
 using MatrixX3 = Eigen::Matrix<double, Eigen::Dynamic, 3>;
 // A measurement's dependence on one offset block (at most 6 coordinates), on the stack.
-using BlockColumns = Eigen::Matrix<double, 3, Eigen::Dynamic, Eigen::ColMajor, 3, 6>;
+using BlockColumns = Eigen::Matrix<double, 3, Eigen::Dynamic, Eigen::ColMajor, 3, kOffsetSize>;
 // Two blocks' term of the offsets' information, and one block's of a vector, on the stack.
-using OffsetInformationBlock = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::ColMajor, 6, 6>;
-using BlockVector = Eigen::Matrix<double, Eigen::Dynamic, 1, Eigen::ColMajor, 6, 1>;
+using OffsetInformationBlock = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::ColMajor, kOffsetSize, kOffsetSize>;
+using BlockVector = Eigen::Matrix<double, Eigen::Dynamic, 1, Eigen::ColMajor, kOffsetSize, 1>;
 
 // A measurement's own term of the offsets' information, G_kᵀ W G_k and G_kᵀ W z_k, on its view's
 // blocks only (G_k = H_u × each block's basis): add_block(row start, column start, block) for the block
@@ -35,11 +35,11 @@ void add_own_terms(const Blocks& blocks, const Matrix36& h, const Matrix3d& weig
   for (const auto& row : blocks) {
     const Matrix36 g_row = h * row.padded_basis;
     const Matrix36 weighted_row = weight * g_row;  // W G
-    const Eigen::Matrix<double, 6, 1> vector = weighted_row.transpose() * z;
+    const OffsetVector vector = weighted_row.transpose() * z;
     add_vector(row.start, BlockVector(vector.head(row.size())));
     for (const auto& column : blocks) {
       if (column.start > row.start) continue;
-      const Eigen::Matrix<double, 6, 6> block =
+      const OffsetMatrix block =
           weighted_row.transpose() * (column.start == row.start ? g_row : Matrix36(h * column.padded_basis));
       add_block(row.start, column.start, OffsetInformationBlock(block.topLeftCorner(row.size(), column.size())));
     }
@@ -63,7 +63,7 @@ const JointRegistration::ViewBlocks* JointRegistration::view_blocks(std::string_
   return found == views_.end() ? nullptr : &found->second;
 }
 
-void JointRegistration::add_block(ViewBlocks& view, const Eigen::Matrix<double, 6, Eigen::Dynamic>& directions,
+void JointRegistration::add_block(ViewBlocks& view, const Eigen::Matrix<double, kOffsetSize, Eigen::Dynamic>& directions,
                                   const Eigen::MatrixXd& covariance) {
   // covariance = U diag(λ) Uᵀ; the block holds the coordinates along the eigenvectors with λ > 0.
   const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eigen(covariance);
@@ -73,7 +73,7 @@ void JointRegistration::add_block(ViewBlocks& view, const Eigen::Matrix<double, 
   for (Eigen::Index k = 0; k < values.size(); ++k) {
     if (values(k) > floor && values(k) > 0.0) kept.push_back(k);
   }
-  Eigen::Matrix<double, 6, Eigen::Dynamic> basis(6, static_cast<Eigen::Index>(kept.size()));
+  Eigen::Matrix<double, kOffsetSize, Eigen::Dynamic> basis(kOffsetSize, static_cast<Eigen::Index>(kept.size()));
   std::vector<double> information;
   for (std::size_t k = 0; k < kept.size(); ++k) {
     basis.col(static_cast<Eigen::Index>(k)) = directions * eigen.eigenvectors().col(kept[k]);
@@ -83,21 +83,21 @@ void JointRegistration::add_block(ViewBlocks& view, const Eigen::Matrix<double, 
 }
 
 void JointRegistration::add_own_block(ViewBlocks& view) {
-  Eigen::Matrix<double, 6, Eigen::Dynamic> basis(6, 0);
+  Eigen::Matrix<double, kOffsetSize, Eigen::Dynamic> basis(kOffsetSize, 0);
   std::vector<double> information;
   std::vector<RegistrationPriorScale::Group> groups;
-  for (int j = 0; j < 6; ++j) {
+  for (int j = 0; j < kOffsetSize; ++j) {
     const double variance = prior_covariance_(j, j);
     if (!(variance > 0.0)) continue;
     basis.conservativeResize(Eigen::NoChange, basis.cols() + 1);
-    basis.rightCols<1>() = Eigen::Matrix<double, 6, 1>::Unit(j);
+    basis.rightCols<1>() = OffsetVector::Unit(j);
     information.push_back(1.0 / variance);
     groups.push_back(j < 3 ? RegistrationPriorScale::Group::kTranslation : RegistrationPriorScale::Group::kNoiseRatio);
   }
   append_block(view, basis, information, groups);
 }
 
-void JointRegistration::append_block(ViewBlocks& view, const Eigen::Matrix<double, 6, Eigen::Dynamic>& basis,
+void JointRegistration::append_block(ViewBlocks& view, const Eigen::Matrix<double, kOffsetSize, Eigen::Dynamic>& basis,
                                      const std::vector<double>& information,
                                      const std::vector<RegistrationPriorScale::Group>& groups) {
   const Eigen::Index size = basis.cols();
@@ -121,7 +121,7 @@ void JointRegistration::append_block(ViewBlocks& view, const Eigen::Matrix<doubl
     object.offsets.conservativeResize(Eigen::NoChange, start + size);
     object.offsets.rightCols(size).setZero();  // no position depends on the new block
   }
-  Eigen::Matrix<double, 6, 6> padded = Eigen::Matrix<double, 6, 6>::Zero();
+  OffsetMatrix padded = OffsetMatrix::Zero();
   padded.leftCols(size) = basis;
   view.blocks.push_back({start, basis, padded});
 }
@@ -135,7 +135,7 @@ const JointRegistration::ViewBlocks* JointRegistration::add_view(std::string_vie
 }
 
 Eigen::MatrixXd JointRegistration::offset_selector(const ViewBlocks& view) const {
-  Eigen::MatrixXd selector = Eigen::MatrixXd::Zero(6, offsets_information_vector_.size());
+  Eigen::MatrixXd selector = Eigen::MatrixXd::Zero(kOffsetSize, offsets_information_vector_.size());
   for (const OffsetBlock& block : view.blocks) selector.middleCols(block.start, block.basis.cols()) = block.basis;
   return selector;
 }
@@ -180,7 +180,7 @@ void JointRegistration::predict(std::string_view object, const Vector3d& displac
 void JointRegistration::release_offset(std::string_view view, const Matrix3d& covariance) {
   const auto found = views_.find(view);
   if (found == views_.end()) return;
-  Eigen::Matrix<double, 6, 3> translation = Eigen::Matrix<double, 6, 3>::Zero();
+  Eigen::Matrix<double, kOffsetSize, 3> translation = Eigen::Matrix<double, kOffsetSize, 3>::Zero();
   translation.topRows<3>().setIdentity();
   add_block(found->second, translation, symmetrised(covariance));
 }
@@ -244,7 +244,7 @@ JointRegistration::Innovation JointRegistration::innovation(std::span<const Meas
     Vector3d value = measurement.position.mean() - predicted;
     if (const ViewBlocks* view = view_blocks(measurement.view); view != nullptr) {
       value -= h * offset_mean(*view);
-      const Eigen::Matrix<double, 6, 3> term = h.transpose() * weight.transpose();
+      const Eigen::Matrix<double, kOffsetSize, 3> term = h.transpose() * weight.transpose();
       for (const OffsetBlock& block : view->blocks) {
         summed.middleRows(block.start, block.size()).noalias() += block.basis.transpose() * term;
         first = std::min(first, block.start);
@@ -340,7 +340,7 @@ void JointRegistration::update(std::span<const Measurement* const> measurements,
       const Matrix36 weighted = term.noise_inverse * term.jacobian;  // R_k⁻¹ H_k
       term.view->pending_information.noalias() += term.jacobian.transpose() * weighted;
       term.view->has_pending_information = true;
-      const Eigen::Matrix<double, 6, 1> vector = weighted.transpose() * measurements[k]->position.mean();
+      const OffsetVector vector = weighted.transpose() * measurements[k]->position.mean();
       for (const OffsetBlock& block : term.view->blocks) {
         information_vector.segment(block.start, block.size()).noalias() += block.basis.transpose() * vector;
       }
@@ -383,7 +383,7 @@ void JointRegistration::fold_pending_terms() const {
   for (const auto& [name, view] : views_) {
     if (!view.has_pending_information) continue;
     for (const OffsetBlock& row : view.blocks) {
-      const Eigen::Matrix<double, Eigen::Dynamic, 6, Eigen::ColMajor, 6, 6> weighted =
+      const Eigen::Matrix<double, Eigen::Dynamic, kOffsetSize, Eigen::ColMajor, kOffsetSize, kOffsetSize> weighted =
           row.basis.transpose() * view.pending_information;
       for (const OffsetBlock& column : view.blocks) {
         if (column.start > row.start) continue;  // the lower triangle
@@ -533,10 +533,10 @@ bool JointRegistration::adapt_prior_scale() {
   return true;
 }
 
-Eigen::Matrix<double, 6, 6> JointRegistration::prior_covariance() const {
-  Eigen::Matrix<double, 6, 6> covariance = prior_covariance_;
+OffsetMatrix JointRegistration::prior_covariance() const {
+  OffsetMatrix covariance = prior_covariance_;
   covariance.topRows<3>() *= prior_scale_.scale(RegistrationPriorScale::Group::kTranslation);
-  covariance.bottomRows<3>() *= prior_scale_.scale(RegistrationPriorScale::Group::kNoiseRatio);
+  covariance.bottomRows<kOffsetSize - 3>() *= prior_scale_.scale(RegistrationPriorScale::Group::kNoiseRatio);
   return covariance;  // diagonal
 }
 
@@ -566,7 +566,7 @@ const JointRegistration::ObjectState& JointRegistration::whitened(const ObjectSt
   return object;
 }
 
-const Eigen::Matrix<double, Eigen::Dynamic, 6>& JointRegistration::whitened_selector(const ViewBlocks& view) const {
+const Eigen::Matrix<double, Eigen::Dynamic, kOffsetSize>& JointRegistration::whitened_selector(const ViewBlocks& view) const {
   refresh();
   if (view.whitened_version != version_) {
     view.whitened_version = version_;
@@ -658,27 +658,27 @@ std::vector<Gaussian3> JointRegistration::positions(std::span<const std::string_
   return result;
 }
 
-Eigen::Matrix<double, 6, 1> JointRegistration::offset(std::string_view view) const {
+OffsetVector JointRegistration::offset(std::string_view view) const {
   const ViewBlocks* blocks = view_blocks(view);
-  return blocks == nullptr ? Eigen::Matrix<double, 6, 1>::Zero() : offset_mean(*blocks);
+  return blocks == nullptr ? OffsetVector::Zero() : offset_mean(*blocks);
 }
 
-Eigen::Matrix<double, 6, 1> JointRegistration::offset_mean(const ViewBlocks& view) const {
+OffsetVector JointRegistration::offset_mean(const ViewBlocks& view) const {
   refresh();
-  Eigen::Matrix<double, 6, 1> result = Eigen::Matrix<double, 6, 1>::Zero();
+  OffsetVector result = OffsetVector::Zero();
   for (const OffsetBlock& block : view.blocks) {
     result.noalias() += block.basis * offsets_mean_.segment(block.start, block.basis.cols());
   }
   return result;
 }
 
-Eigen::Matrix<double, 6, 6> JointRegistration::offset_covariance(std::string_view view) const {
+OffsetMatrix JointRegistration::offset_covariance(std::string_view view) const {
   const ViewBlocks* blocks = view_blocks(view);
   if (blocks == nullptr) return prior_covariance();
   refresh();
-  if (offsets_information_vector_.size() == 0) return Eigen::Matrix<double, 6, 6>::Zero();
-  const Eigen::Matrix<double, Eigen::Dynamic, 6>& whitened = whitened_selector(*blocks);  // Y_u
-  return gram<6>(whitened);
+  if (offsets_information_vector_.size() == 0) return OffsetMatrix::Zero();
+  const Eigen::Matrix<double, Eigen::Dynamic, kOffsetSize>& whitened = whitened_selector(*blocks);  // Y_u
+  return gram<kOffsetSize>(whitened);
 }
 
 }  // namespace stgf

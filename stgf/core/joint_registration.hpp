@@ -7,7 +7,7 @@
 //
 // Model (view_registration.hpp): view u's measurement of object i is
 //     z = p_i + H_u β_u + e,   e ~ N(0, R),   H_u = [ I₃  F ]  (F: R's factor along the ray, offset_jacobian),
-// with β_u = (t_u, δ_u) ∈ R⁶ constant over the scene and a prior N(0, diag(σ², α²)) per view (α per ray axis),
+// with β_u = (t_u, δ_u, ε_u) ∈ R⁷ constant over the scene and a prior N(0, diag(σ², α², σ_ε²)) per view (α per ray axis),
 // independent across views (RegistrationPrior). A measurement is a linear observation of s with
 // H = [0 … I₃ (at p_i) … H_u (at β_u) … 0], and the Kalman update on it is exact:
 //     ν = z − p̂_i − H_u β̂_u,   S = H Σ Hᵀ + R,   K = Σ Hᵀ S⁻¹,   ŝ += K ν,   Σ −= K S Kᵀ.
@@ -135,7 +135,7 @@ class JointRegistration {
   bool prior_scale_estimated() const { return prior_scale_.estimated(); }  // else κ = 1: too little evidence
   // Σ₀ with its translation block scaled by κ_t and its noise-ratio block by κ_n: the prior of a view
   // not yet seen.
-  Eigen::Matrix<double, 6, 6> prior_covariance() const;
+  OffsetMatrix prior_covariance() const;
 
   Gaussian3 position(std::string_view object) const;  // the marginal of p_i
   // position() of several objects at once, in their order. Their spreads B_i Σ_β B_iᵀ that M changed
@@ -153,8 +153,8 @@ class JointRegistration {
   // measurement.
   Matrix3d offsets_covariance(std::span<const Measurement* const> measurements, std::span<const Matrix3d> weights) const;
   // The estimated offset of `view` and its covariance (prior for an unknown view).
-  Eigen::Matrix<double, 6, 1> offset(std::string_view view) const;
-  Eigen::Matrix<double, 6, 6> offset_covariance(std::string_view view) const;
+  OffsetVector offset(std::string_view view) const;
+  OffsetMatrix offset_covariance(std::string_view view) const;
   std::size_t view_count() const { return views_.size(); }
   bool active() const { return !prior_.is_zero(); }
 
@@ -170,13 +170,13 @@ class JointRegistration {
     mutable Matrix3d offsets_spread = Matrix3d::Zero();
     mutable std::uint64_t spread_version = 0;
   };
-  // A block of β and how its coordinates move a view's offset (t, δ): by `basis` (6 × its size).
+  // A block of β and how its coordinates move a view's offset (t, δ, ε): by `basis` (7 × its size).
   struct OffsetBlock {
     Eigen::Index start;
-    Eigen::Matrix<double, 6, Eigen::Dynamic> basis;
+    Eigen::Matrix<double, kOffsetSize, Eigen::Dynamic> basis;
     // The basis with zero columns up to 6: a measurement's G on the block is then a fixed-size
     // product, H_u (3 × 6) times this, whose first basis.cols() columns are G.
-    Eigen::Matrix<double, 6, 6> padded_basis;
+    OffsetMatrix padded_basis;
     Eigen::Index size() const { return basis.cols(); }
   };
   // A view's offset is Σ basis β_block over its blocks: its own — only the directions in which the
@@ -186,43 +186,43 @@ class JointRegistration {
     std::vector<OffsetBlock> blocks;
     // Y_u = L⁻¹ E_uᵀ (c × 6) for the M of version `whitened_version` (0: none): Σ_uu = Y_uᵀ Y_u,
     // and a measurement's C Σ_β Cᵀ = ‖W_i + Y_u H_uᵀ‖² in O(c).
-    mutable Eigen::Matrix<double, Eigen::Dynamic, 6> whitened_selector;
+    mutable Eigen::Matrix<double, Eigen::Dynamic, kOffsetSize> whitened_selector;
     mutable std::uint64_t whitened_version = 0;
     // Σ_k H_kᵀ R_k⁻¹ H_k over the view's measurements fused since M was last folded: their own terms
     // of M, added to the view's blocks at once (fold_pending_terms) instead of one block write each.
-    mutable Eigen::Matrix<double, 6, 6> pending_information = Eigen::Matrix<double, 6, 6>::Zero();
+    mutable OffsetMatrix pending_information = OffsetMatrix::Zero();
     mutable bool has_pending_information = false;
   };
   const ViewBlocks* add_view(std::string_view view);  // none for a zero prior
   const ViewBlocks* view_blocks(std::string_view view) const;  // none when unknown
   // Appends an independent block for `covariance`'s nonzero directions (eigenvectors, as columns of
   // `directions` mapped by it), if any, whose prior is fixed (a release's).
-  void add_block(ViewBlocks& view, const Eigen::Matrix<double, 6, Eigen::Dynamic>& directions,
+  void add_block(ViewBlocks& view, const Eigen::Matrix<double, kOffsetSize, Eigen::Dynamic>& directions,
                  const Eigen::MatrixXd& covariance);
-  // Appends a view's own block: the coordinates of (t, δ) with a nonzero prior variance in Σ₀ (which is
+  // Appends a view's own block: the coordinates of (t, δ, ε) with a nonzero prior variance in Σ₀ (which is
   // diagonal), each scaled by its group's κ.
   void add_own_block(ViewBlocks& view);
   // β grows by a block with these columns of `basis` and this prior information per coordinate.
-  void append_block(ViewBlocks& view, const Eigen::Matrix<double, 6, Eigen::Dynamic>& basis,
+  void append_block(ViewBlocks& view, const Eigen::Matrix<double, kOffsetSize, Eigen::Dynamic>& basis,
                     const std::vector<double>& information, const std::vector<RegistrationPriorScale::Group>& groups);
   const ObjectState& object_state(std::string_view object) const;
   // C = B_i + H_u E_u: how a measurement of object i by view u (none: a view not in β) depends on β.
   Eigen::Matrix<double, 3, Eigen::Dynamic> measurement_offsets(const ObjectState& object, const ViewBlocks* view,
-                                                               const Eigen::Matrix<double, 3, 6>& h) const;
+                                                               const OffsetJacobian& h) const;
   // E_u with view u's offset t_u + Σ jumps, δ_u = E_u β (6 × size of β).
   Eigen::MatrixXd offset_selector(const ViewBlocks& view) const;
   // The object's W_i and B_i Σ_β B_iᵀ, and the view's Y_u, made current (M factored).
   const ObjectState& whitened(const ObjectState& object) const;
   Gaussian3 marginal(const ObjectState& object) const;  // of p_i, as position()
-  Eigen::Matrix<double, 6, 1> offset_mean(const ViewBlocks& view) const;  // as offset()
-  const Eigen::Matrix<double, Eigen::Dynamic, 6>& whitened_selector(const ViewBlocks& view) const;
+  OffsetVector offset_mean(const ViewBlocks& view) const;  // as offset()
+  const Eigen::Matrix<double, Eigen::Dynamic, kOffsetSize>& whitened_selector(const ViewBlocks& view) const;
   // Factors M and solves for β̂, if M changed since (folding in the pending rank-3 terms first).
   void refresh() const;
   // M += the views' pending own terms, and U₊U₊ᵀ − U₋U₋ᵀ over the pending columns; then none are pending.
   void fold_pending_terms() const;
 
   RegistrationPrior prior_;
-  Eigen::Matrix<double, 6, 6> prior_covariance_;  // Σ₀, as calibrated
+  OffsetMatrix prior_covariance_;  // Σ₀, as calibrated
   RegistrationPriorScale prior_scale_;
   // Looked up by name for every measurement: hashed, and by string_view without a copy. Nothing
   // depends on their order.
@@ -241,7 +241,7 @@ class JointRegistration {
   // update()'s work space: per measurement, its view, H_k and R_k⁻¹ (kept so as not to allocate).
   struct UpdateTerm {
     const ViewBlocks* view;
-    Eigen::Matrix<double, 3, 6> jacobian;
+    OffsetJacobian jacobian;
     Matrix3d noise_inverse;
   };
   std::vector<UpdateTerm> update_terms_;

@@ -14,28 +14,47 @@
 namespace stgf {
 namespace {
 
-using Parameters = std::array<double, 6>;  // log10 of σ_x, σ_y, σ_z, α_along, α_across, α_vertical
-constexpr int kOffsetSize = ViewRegistration::kOffsetSize;
+// log10 of σ_x, σ_y, σ_z, α_along, α_across, α_vertical, σ_ε
+using Parameters = std::array<double, kOffsetSize>;
+constexpr int kRangeScale = kOffsetSize - 1;  // ε's coordinate
 
-// A group's evidence on the offsets β of its views (6 coordinates per view): information A, vector b.
+// A group's evidence on the offsets β of its views (kOffsetSize coordinates per view, or one fewer
+// once ε is left out): information A, vector b.
 struct GroupStatistics {
   Eigen::MatrixXd a;
   Eigen::VectorXd b;
+  int size = kOffsetSize;  // coordinates per view
   explicit GroupStatistics(Eigen::Index views = 1)
       : a(Eigen::MatrixXd::Zero(kOffsetSize * views, kOffsetSize * views)),
         b(Eigen::VectorXd::Zero(kOffsetSize * views)) {}
 };
 
+// Without the range scale: each group's A and b on every view's coordinates but ε, so that the
+// likelihood is exactly that of the model without it.
+void leave_out_range_scale(std::vector<GroupStatistics>& groups) {
+  for (GroupStatistics& group : groups) {
+    const Eigen::Index views = group.b.size() / kOffsetSize;
+    std::vector<Eigen::Index> kept;
+    for (Eigen::Index view = 0; view < views; ++view) {
+      for (int k = 0; k < kRangeScale; ++k) kept.push_back(kOffsetSize * view + k);
+    }
+    group.a = Eigen::MatrixXd(group.a(kept, kept));
+    group.b = Eigen::VectorXd(group.b(kept));
+    group.size = kRangeScale;
+  }
+}
+
 constexpr double kLowest = -4.0;                            // log10 of the smallest σ or α
-constexpr std::array<double, 6> kHighest = {1.5, 1.5, 1.5, 2.0, 2.0, 2.0};
+constexpr Parameters kHighest = {1.5, 1.5, 1.5, 2.0, 2.0, 2.0, 0.0};  // σ_ε up to 1 (100 %)
 
 double log_likelihood(const std::vector<GroupStatistics>& groups, const Parameters& parameters) {
-  Eigen::Matrix<double, kOffsetSize, 1> prior_information;
-  for (int k = 0; k < kOffsetSize; ++k) prior_information[k] = std::pow(10.0, -2.0 * parameters[k]);
-  const double log_det_prior = prior_information.array().log().sum();
+  Eigen::Matrix<double, kOffsetSize, 1> information;
+  for (int k = 0; k < kOffsetSize; ++k) information[k] = std::pow(10.0, -2.0 * parameters[k]);
   double total = 0.0;
   for (const GroupStatistics& group : groups) {
-    const Eigen::Index views = group.b.size() / kOffsetSize;
+    const auto prior_information = information.head(group.size);
+    const double log_det_prior = prior_information.array().log().sum();
+    const Eigen::Index views = group.b.size() / group.size;
     Eigen::MatrixXd posterior_information = group.a;
     posterior_information.diagonal() += prior_information.replicate(views, 1);
     const Eigen::LLT<Eigen::MatrixXd> factor(posterior_information);
@@ -49,6 +68,13 @@ double log_likelihood(const std::vector<GroupStatistics>& groups, const Paramete
 // The coordinates a search coordinate sets: itself, or with one α for all three axes, α's three.
 int last_of(int coordinate, NoiseRatioAxes axes) {
   return axes == NoiseRatioAxes::kOne && coordinate == 3 ? 5 : coordinate;
+}
+
+// Whether the search moves this coordinate on its own: not α's second and third with one α (they
+// follow the first), nor ε when it is left out (it stays at zero).
+bool searched(int coordinate, NoiseRatioAxes axes, bool range_scale) {
+  if (axes == NoiseRatioAxes::kOne && (coordinate == 4 || coordinate == 5)) return false;
+  return coordinate != kRangeScale || range_scale;
 }
 
 // Best value of one search coordinate on the grid lo, lo + step, …, hi (others fixed).
@@ -68,7 +94,8 @@ double best_on_grid(const std::vector<GroupStatistics>& groups, Parameters param
 }
 
 // The parameters that maximise the groups' marginal likelihood.
-RegistrationCalibration maximise_likelihood(const std::vector<GroupStatistics>& groups, NoiseRatioAxes axes) {
+RegistrationCalibration maximise_likelihood(std::vector<GroupStatistics> groups, NoiseRatioAxes axes, bool range_scale) {
+  if (!range_scale) leave_out_range_scale(groups);
   RegistrationCalibration result;
   result.groups = groups.size();
   if (groups.empty()) return result;
@@ -78,8 +105,8 @@ RegistrationCalibration maximise_likelihood(const std::vector<GroupStatistics>& 
   for (const double step : {0.1, 0.01}) {
     for (int sweep = 0; sweep < 20; ++sweep) {
       const Parameters before = parameters;
-      const int coordinates = axes == NoiseRatioAxes::kOne ? 4 : static_cast<int>(parameters.size());
-      for (int coordinate = 0; coordinate < coordinates; ++coordinate) {
+      for (int coordinate = 0; coordinate < kOffsetSize; ++coordinate) {
+        if (!searched(coordinate, axes, range_scale)) continue;
         const double lo = step < 0.1 ? std::max(kLowest, parameters[coordinate] - 0.1) : kLowest;
         const double hi = step < 0.1 ? std::min(kHighest[coordinate], parameters[coordinate] + 0.1) : kHighest[coordinate];
         const double best = best_on_grid(groups, parameters, coordinate, lo, hi, step, axes);
@@ -91,6 +118,7 @@ RegistrationCalibration maximise_likelihood(const std::vector<GroupStatistics>& 
   auto sigma = [](double log10_value) { return log10_value <= kLowest + 1e-9 ? 0.0 : std::pow(10.0, log10_value); };
   result.prior.translation_sigma = Vector3d(sigma(parameters[0]), sigma(parameters[1]), sigma(parameters[2]));
   result.prior.noise_ratio = Vector3d(sigma(parameters[3]), sigma(parameters[4]), sigma(parameters[5]));
+  result.prior.range_scale_sigma = sigma(parameters[kRangeScale]);
   result.log_likelihood_gain = (log_likelihood(groups, parameters) - none) / static_cast<double>(groups.size());
   return result;
 }
@@ -98,7 +126,8 @@ RegistrationCalibration maximise_likelihood(const std::vector<GroupStatistics>& 
 }  // namespace
 
 RegistrationCalibration calibrate_registration_prior(std::span<const Measurement> measurements,
-                                                     std::span<const Vector3d> truth, NoiseRatioAxes axes) {
+                                                     std::span<const Vector3d> truth, NoiseRatioAxes axes,
+                                                     bool range_scale) {
   if (measurements.size() != truth.size()) {
     throw std::invalid_argument("calibrate_registration_prior: one truth position per measurement");
   }
@@ -115,14 +144,14 @@ RegistrationCalibration calibrate_registration_prior(std::span<const Measurement
   std::vector<GroupStatistics> groups;
   groups.reserve(by_group.size());
   for (auto& entry : by_group) groups.push_back(std::move(entry.second));
-  return maximise_likelihood(groups, axes);
+  return maximise_likelihood(std::move(groups), axes, range_scale);
 }
 
 RegistrationCalibration calibrate_registration_prior_from_disagreements(
-    std::span<const Measurement> measurements, NoiseRatioAxes axes) {
+    std::span<const Measurement> measurements, NoiseRatioAxes axes, bool range_scale) {
   std::vector<GroupStatistics> groups;
   for (const Scene& scene : group_into_scenes(measurements)) {
-    // The scene's views, in order of first appearance: view u's offset is β[6u, 6u + 6).
+    // The scene's views, in order of first appearance: view u's offset is β[7u, 7u + 7).
     std::map<std::string, Eigen::Index> view_index;
     for (const Step& step : scene.steps) {
       for (const std::size_t row : step.rows) {
@@ -174,7 +203,7 @@ RegistrationCalibration calibrate_registration_prior_from_disagreements(
     }
     if (disagreed) groups.push_back(std::move(group));
   }
-  return maximise_likelihood(groups, axes);
+  return maximise_likelihood(std::move(groups), axes, range_scale);
 }
 
 }  // namespace stgf

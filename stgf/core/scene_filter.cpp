@@ -368,7 +368,7 @@ void SceneFilter::close_frames(double time) {
   if (compared) state_.joint.adapt_prior_scale();
 }
 
-Eigen::Matrix<double, 6, 1> SceneFilter::registration_offset(std::string_view view) const {
+OffsetVector SceneFilter::registration_offset(std::string_view view) const {
   return joint() ? state_.joint.offset(view) : state_.registration.offset(view);
 }
 

@@ -187,7 +187,7 @@ class SceneFilter {
   // Which motion the tracks follow, and the evidence for it (motion_choice.hpp).
   const MotionChoice& motion_choice() const { return state_.motion_choice; }
   // The estimated registration offset of a view (t, δ; zero for a zero prior or an unknown view).
-  Eigen::Matrix<double, 6, 1> registration_offset(std::string_view view) const;
+  OffsetVector registration_offset(std::string_view view) const;
   // κ̂_t, κ̂_n, the scales learned for the registration prior (1 when not learned), and whether they were: the
   // views' same-time disagreements reached RegistrationPriorScale::kFirstEstimateDimensions.
   RegistrationPriorScales registration_prior_scales() const { return state_.joint.prior_scales(); }

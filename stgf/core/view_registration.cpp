@@ -7,10 +7,10 @@
 #include <vector>
 
 namespace stgf {
-using Matrix36 = Eigen::Matrix<double, 3, 6>;
+using Matrix36 = OffsetJacobian;
 
 Matrix36 offset_jacobian(const Matrix3d& measurement_covariance) {
-  // [I₃ L], L the Cholesky factor of R, written out (called for every measurement, several times), in
+  // [I₃ L 0], L the Cholesky factor of R, written out (called for every measurement, several times), in
   // the order of operations of Eigen's LLT, which it replaces: the same bits.
   const Matrix3d& a = measurement_covariance;
   const double l00 = std::sqrt(a(0, 0));
@@ -20,9 +20,9 @@ Matrix36 offset_jacobian(const Matrix3d& measurement_covariance) {
   const double l21 = (a(2, 1) - l20 * l10) / l11;
   const double l22 = std::sqrt(a(2, 2) - (l20 * l20 + l21 * l21));
   Matrix36 jacobian;
-  jacobian << 1, 0, 0, l00, 0, 0,  //
-      0, 1, 0, l10, l11, 0,        //
-      0, 0, 1, l20, l21, l22;
+  jacobian << 1, 0, 0, l00, 0, 0, 0,  //
+      0, 1, 0, l10, l11, 0, 0,        //
+      0, 0, 1, l20, l21, l22, 0;
   return jacobian;
 }
 
@@ -38,11 +38,12 @@ Matrix36 offset_jacobian(const Measurement& measurement) {
   Matrix3d turn;
   turn << c, -s, 0, s, c, 0, 0, 0, 1;
   Matrix36 jacobian = offset_jacobian(Matrix3d(turn.transpose() * r * turn));
-  jacobian.rightCols<3>() = turn * jacobian.rightCols<3>();
+  jacobian.middleCols<3>(3) = turn * jacobian.middleCols<3>(3);
+  jacobian.col(6) = Vector3d(ray.x(), ray.y(), 0.0);  // ε's: the horizontal range from the sensor
   return jacobian;
 }
 
-Eigen::Matrix<double, 6, 6> RegistrationPrior::covariance() const {
+OffsetMatrix RegistrationPrior::covariance() const {
   for (int axis = 0; axis < 3; ++axis) {
     const double sigma = translation_sigma[axis];
     if (!std::isfinite(sigma) || sigma < 0.0) {
@@ -54,9 +55,13 @@ Eigen::Matrix<double, 6, 6> RegistrationPrior::covariance() const {
       throw std::invalid_argument("registration noise ratio must be finite and >= 0");
     }
   }
-  Eigen::Matrix<double, 6, 6> covariance = Eigen::Matrix<double, 6, 6>::Zero();
+  if (!std::isfinite(range_scale_sigma) || range_scale_sigma < 0.0) {
+    throw std::invalid_argument("registration range scale sigma must be finite and >= 0");
+  }
+  OffsetMatrix covariance = OffsetMatrix::Zero();
   covariance.diagonal().head<3>() = translation_sigma.cwiseProduct(translation_sigma);
-  covariance.diagonal().tail<3>() = noise_ratio.cwiseProduct(noise_ratio);
+  covariance.diagonal().segment<3>(3) = noise_ratio.cwiseProduct(noise_ratio);
+  covariance(6, 6) = range_scale_sigma * range_scale_sigma;
   return covariance;
 }
 
@@ -83,13 +88,13 @@ int ViewRegistration::add_view(std::string_view view) {
   return index;
 }
 
-Eigen::Matrix<double, 6, 1> ViewRegistration::offset(std::string_view view) const {
+OffsetVector ViewRegistration::offset(std::string_view view) const {
   const int index = index_of(view);
-  if (index < 0) return Eigen::Matrix<double, 6, 1>::Zero();
+  if (index < 0) return OffsetVector::Zero();
   return offsets_.segment<kOffsetSize>(kOffsetSize * index);
 }
 
-Eigen::Matrix<double, 6, 6> ViewRegistration::offset_covariance(std::string_view view) const {
+OffsetMatrix ViewRegistration::offset_covariance(std::string_view view) const {
   const int index = index_of(view);
   if (index < 0) return prior_covariance_;
   return covariance_.block<kOffsetSize, kOffsetSize>(kOffsetSize * index, kOffsetSize * index);
@@ -112,7 +117,7 @@ Gaussian3 ViewRegistration::combine(std::span<const Measurement* const> measurem
   Eigen::MatrixXd noise(3 * k, 3 * k);
   for (Eigen::Index j = 0; j < k; ++j) {
     for (Eigen::Index l = 0; l <= j; ++l) {
-      Eigen::Matrix<double, 6, 6> offsets_covariance;
+      OffsetMatrix offsets_covariance;
       if (index[j] >= 0 && index[l] >= 0) {
         offsets_covariance = covariance_.block<kOffsetSize, kOffsetSize>(kOffsetSize * index[j], kOffsetSize * index[l]);
       } else if (j == l) {

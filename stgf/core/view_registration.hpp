@@ -6,18 +6,24 @@
 // and weights a biased view as if it were exact.
 //
 // Model. View u's measurement of an object at p is
-//     z = p + H_u β_u + e,   e ~ N(0, R),   H_u = [ I₃  F ],  F = G L(Gᵀ R G)  (offset_jacobian below:
-//     L(·) the lower Cholesky factor, G the turn about the vertical to the ray's heading, sensor → object),
-// with β_u = (t_u, δ_u) ∈ R⁶ constant over a scene:
+//     z = p + H_u β_u + e,   e ~ N(0, R),   H_u = [ I₃  F  r ]  (offset_jacobian below),
+//     F = G L(Gᵀ R G)  (L(·) the lower Cholesky factor, G the turn about the vertical to the ray's
+//         heading, sensor → object),   r = (z − s) in the horizontal plane (s the sensor's position),
+// with β_u = (t_u, δ_u, ε_u) ∈ R⁷ constant over a scene:
 //   t_u  a translation in the world frame (a GPS or extrinsic position error);
 //   δ_u  an offset in the view's own noise units (a small rotation of a camera or range sensor moves
 //        every measurement by about the same angle / the same pixels, which reaches the world through
 //        the same Jacobian that shapes R, so it grows with range exactly as R does). In the ray's
 //        frame its first component moves the measurement along the ray in the ray's own sense (a
-//        tilt), its second across it (a pan), for every ray of the view, whatever the world frame.
-// Prior: t_u ~ N(0, diag(σ_x², σ_y², σ_z²)) and δ_u ~ N(0, diag(α_along², α_across², α_vertical²)) in
-// the ray's frame, independent across views (RegistrationPrior; calibrate it with
-// registration_calibration.hpp: one α for all three axes by default, or one per axis).
+//        tilt), its second across it (a pan), for every ray of the view, whatever the world frame;
+//   ε_u  a scale of the view's horizontal range about its own position: a ground-plane camera whose
+//        height is off by Δh places every ground point (h + Δh)/h as far from its foot, an offset
+//        (Δh/h)(p − s) linear in range, where R along the ray grows with its square, so δ cannot hold
+//        it; a range sensor's scale error likewise. Rows without a sensor position have no range (r = 0).
+// Prior: t_u ~ N(0, diag(σ_x², σ_y², σ_z²)), δ_u ~ N(0, diag(α_along², α_across², α_vertical²)) in the
+// ray's frame, ε_u ~ N(0, σ_ε²), independent across views (RegistrationPrior; calibrate it with
+// registration_calibration.hpp: one α for all three axes by default, or one per axis; σ_ε = 0 unless
+// calibrated with `stgf train --range-scale` or set: a zero prior keeps ε out of β, at no cost).
 //
 // Online estimation, per scene. The joint Gaussian N(β̂, Σ) over the offsets of every view seen so far
 // is learned only from what views disagree on: when views V = {u₁..u_k}, k ≥ 2, measure the same object
@@ -40,7 +46,7 @@
 // form: the spatiotemporal graph filter's one-track-per-object mode estimates offsets jointly with the
 // positions instead (joint_registration.hpp); this class serves its per-view tracks.
 //
-// Cost: state 6n for n views; a learning update is O((6n)² k) per object, a fusion O((3k)³).
+// Cost: state 7n for n views; a learning update is O((6n)² k) per object, a fusion O((3k)³).
 
 #include <map>
 #include <span>
@@ -53,6 +59,12 @@
 
 namespace stgf {
 
+// A view's offset β_u = (t_u, δ_u, ε_u): its size, and the fixed-size types that hold one.
+inline constexpr int kOffsetSize = 7;
+using OffsetVector = Eigen::Matrix<double, kOffsetSize, 1>;
+using OffsetMatrix = Eigen::Matrix<double, kOffsetSize, kOffsetSize>;
+using OffsetJacobian = Eigen::Matrix<double, 3, kOffsetSize>;
+
 struct RegistrationPrior {
   Vector3d translation_sigma = Vector3d::Zero();  // σ of t along the world axes (m)
   // α: σ of δ in units of the view's own noise, per axis of δ: along the measurement's ray, across it
@@ -60,24 +72,28 @@ struct RegistrationPrior {
   // x, y, z). Offsets differ by direction: a camera's tilt moves its measurements along their rays,
   // its pan across them; a vehicle's GPS heading error only across (design §1.7).
   Vector3d noise_ratio = Vector3d::Zero();
-  bool is_zero() const { return translation_sigma.isZero() && noise_ratio.isZero(); }
-  // diag(σ_x², σ_y², σ_z², α_along², α_across², α_vertical²). Throws std::invalid_argument when a sigma
-  // or α is negative or not finite.
-  Eigen::Matrix<double, 6, 6> covariance() const;
+  // σ_ε of the view's horizontal range scale ε (a ratio: 0.01 is 1 %); 0: none.
+  double range_scale_sigma = 0.0;
+  bool is_zero() const { return translation_sigma.isZero() && noise_ratio.isZero() && range_scale_sigma == 0.0; }
+  // diag(σ_x², σ_y², σ_z², α_along², α_across², α_vertical², σ_ε²). Throws std::invalid_argument when a
+  // σ or α is negative or not finite.
+  OffsetMatrix covariance() const;
 };
 
-// H = [I₃  L] with L Lᵀ = R in the world's axes: how a view's offset β = (t, δ) moves a measurement
-// with covariance R whose sensor position is not known.
-Eigen::Matrix<double, 3, 6> offset_jacobian(const Matrix3d& measurement_covariance);
-// H = [I₃  F] for a measurement: with its sensor position known, F = G L(Gᵀ R G), G the turn about
-// the vertical taking x to the heading of its ray (object − sensor), so that δ's first component
+// H = [I₃  L  0] with L Lᵀ = R in the world's axes: how a view's offset β = (t, δ, ε) moves a
+// measurement with covariance R whose sensor position is not known (no range to scale).
+OffsetJacobian offset_jacobian(const Matrix3d& measurement_covariance);
+// H = [I₃  F  r] for a measurement: with its sensor position s known, F = G L(Gᵀ R G), G the turn
+// about the vertical taking x to the heading of its ray (object − sensor), so that δ's first component
 // moves the measurement along its own ray, in the ray's own sense, and F turns with the world frame
-// (design §1.1); without one (or straight above the sensor), the plain L of R in the world's axes.
-Eigen::Matrix<double, 3, 6> offset_jacobian(const Measurement& measurement);
+// (design §1.1), and r = (z − s) in the horizontal plane, ε's column (the measurement stands in for
+// the unknown position: an error of ε times the noise, second order); without one (or straight
+// above the sensor), offset_jacobian(R).
+OffsetJacobian offset_jacobian(const Measurement& measurement);
 
 class ViewRegistration {
  public:
-  static constexpr int kOffsetSize = 6;  // (t, δ)
+  static constexpr int kOffsetSize = stgf::kOffsetSize;  // (t, δ, ε)
 
   // Throws std::invalid_argument when a sigma is negative or not finite.
   explicit ViewRegistration(const RegistrationPrior& prior);
@@ -90,10 +106,9 @@ class ViewRegistration {
   // Learns from every measurement of a step (all objects); adds views seen for the first time.
   void learn(std::span<const Measurement* const> step);
 
-  // The estimated offset of `view` at position-independent part t and noise-unit part δ, and their
-  // covariance (prior for an unknown view).
-  Eigen::Matrix<double, 6, 1> offset(std::string_view view) const;
-  Eigen::Matrix<double, 6, 6> offset_covariance(std::string_view view) const;
+  // The estimated offset (t, δ, ε) of `view` and its covariance (prior for an unknown view).
+  OffsetVector offset(std::string_view view) const;
+  OffsetMatrix offset_covariance(std::string_view view) const;
   std::size_t view_count() const { return views_.size(); }
   // False for a zero prior: every offset is exactly zero and nothing needs correcting.
   bool active() const { return !prior_.is_zero(); }
@@ -103,9 +118,9 @@ class ViewRegistration {
   int add_view(std::string_view view);
 
   RegistrationPrior prior_;
-  Eigen::Matrix<double, 6, 6> prior_covariance_;
+  OffsetMatrix prior_covariance_;
   std::map<std::string, int, std::less<>> views_;
-  Eigen::VectorXd offsets_;      // β̂, 6 per view in order of first appearance
+  Eigen::VectorXd offsets_;      // β̂, kOffsetSize per view in order of first appearance
   Eigen::MatrixXd covariance_;   // Σ
 };
 

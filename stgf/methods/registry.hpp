@@ -20,6 +20,7 @@ struct OursSettings {
   bool registration = true;                   // estimate each view's offset and keep its uncertainty
   std::optional<Vector3d> translation_sigma;  // σ of the translation offset (m); unset: the model's calibration
   std::optional<Vector3d> noise_ratio;        // α along, across, vertical to each ray; unset: the model's calibration
+  std::optional<double> range_scale_sigma;    // σ_ε of each view's range scale; unset: the model's calibration
   bool adapt_process_noise = true;            // scale Q online from the innovations
   MotionFallback motion_fallback = MotionFallback::kAuto;  // constant velocity where it predicts better
   bool adapt_registration_prior = true;       // scale the registration prior from the views' disagreements

@@ -59,8 +59,8 @@ class SpatiotemporalGraphFilter final : public Localizer {
   // What the χ² gate did (core/measurement_gate.hpp, core/view_noise_scales.hpp).
   const ViewNoiseScales& view_noise_scales() const { return filter_.view_noise_scales(); }
   std::size_t gate_restarts() const { return filter_.gate_restarts(); }
-  // The estimated registration offset (t, δ) of a view (view_registration.hpp).
-  Eigen::Matrix<double, 6, 1> registration_offset(std::string_view view) const { return filter_.registration_offset(view); }
+  // The estimated registration offset (t, δ, ε) of a view (view_registration.hpp).
+  OffsetVector registration_offset(std::string_view view) const { return filter_.registration_offset(view); }
   // κ̂_t and κ̂_n, the registration prior's scales learned from the views' disagreements (1 until learned).
   RegistrationPriorScales registration_prior_scales() const { return filter_.registration_prior_scales(); }
 

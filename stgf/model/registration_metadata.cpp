@@ -8,11 +8,14 @@
 namespace stgf {
 
 nlohmann::json registration_prior_to_json(const RegistrationPrior& prior) {
-  return {{"translation_sigma_m",
+  nlohmann::json entry = {{"translation_sigma_m",
            {prior.translation_sigma.x(), prior.translation_sigma.y(), prior.translation_sigma.z()}},
           {"noise_ratio", prior.noise_ratio.isConstant(prior.noise_ratio.x())
                               ? nlohmann::json(prior.noise_ratio.x())
                               : nlohmann::json{prior.noise_ratio.x(), prior.noise_ratio.y(), prior.noise_ratio.z()}}};
+  // Written only when there is one, so that a model calibrated without it is the file it was before.
+  if (prior.range_scale_sigma > 0.0) entry["range_scale_sigma"] = prior.range_scale_sigma;
+  return entry;
 }
 
 std::optional<RegistrationPrior> registration_prior_from_metadata(const nlohmann::json& metadata,
@@ -28,10 +31,12 @@ std::optional<RegistrationPrior> registration_prior_from_metadata(const nlohmann
   };
   const bool valid = entry.is_object() && entry.contains("translation_sigma_m") && entry.contains("noise_ratio") &&
                      three_finite_non_negative(entry.at("translation_sigma_m")) &&
-                     (finite_non_negative(entry.at("noise_ratio")) || three_finite_non_negative(entry.at("noise_ratio")));
+                     (finite_non_negative(entry.at("noise_ratio")) || three_finite_non_negative(entry.at("noise_ratio"))) &&
+                     (!entry.contains("range_scale_sigma") || finite_non_negative(entry.at("range_scale_sigma")));
   if (!valid) {
     throw InputError(path, 0, "malformed registration calibration in the model metadata (want translation_sigma_m: "
-                              "[3 numbers >= 0], noise_ratio: number >= 0 or [3 numbers >= 0])");
+                              "[3 numbers >= 0], noise_ratio: number >= 0 or [3 numbers >= 0], range_scale_sigma: "
+                              "number >= 0 if given)");
   }
   RegistrationPrior prior;
   const nlohmann::json& sigma = entry.at("translation_sigma_m");
@@ -39,6 +44,7 @@ std::optional<RegistrationPrior> registration_prior_from_metadata(const nlohmann
   const nlohmann::json& ratio = entry.at("noise_ratio");
   prior.noise_ratio = ratio.is_array() ? Vector3d(ratio[0].get<double>(), ratio[1].get<double>(), ratio[2].get<double>())
                                        : Vector3d::Constant(ratio.get<double>());
+  prior.range_scale_sigma = entry.value("range_scale_sigma", 0.0);  // none: calibrated without one
   return prior;
 }
 
@@ -50,6 +56,7 @@ RegistrationPrior resolve_registration_prior(const OursSettings& settings, const
   RegistrationPrior prior = calibrated.value_or(RegistrationPrior{});
   if (settings.translation_sigma) prior.translation_sigma = *settings.translation_sigma;
   if (settings.noise_ratio) prior.noise_ratio = *settings.noise_ratio;
+  if (settings.range_scale_sigma) prior.range_scale_sigma = *settings.range_scale_sigma;
   if (missing != nullptr) *missing = !calibrated && !(settings.translation_sigma && settings.noise_ratio);
   return prior;
 }

@@ -4,7 +4,8 @@
 // the Q it was calibrated with (both from the validation split of the training benchmark):
 //   "registration": {"translation_sigma_m": [σx, σy, σz], "noise_ratio": α, "calibrated_on": "..."}
 // "noise_ratio" is one number when α is the same along, across and vertical to each ray (every
-// model before α per axis, and so read), else [α_along, α_across, α_vertical].
+// model before α per axis, and so read), else [α_along, α_across, α_vertical]. "range_scale_sigma": σ_ε,
+// only when the model was calibrated with one (`stgf train --range-scale`); without it, none.
 
 #include <optional>
 #include <string>

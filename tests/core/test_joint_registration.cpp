@@ -9,6 +9,7 @@
 
 #include "stgf/core/joint_registration.hpp"
 
+#include <map>
 #include <random>
 
 #include <gtest/gtest.h>
@@ -16,7 +17,7 @@
 namespace stgf {
 namespace {
 
-using Matrix36 = Eigen::Matrix<double, 3, 6>;
+using Matrix36 = OffsetJacobian;
 
 // The reference: one dense Gaussian over every position and offset, every operation exact.
 class DenseJointRegistration {
@@ -25,15 +26,15 @@ class DenseJointRegistration {
 
   void add_object(const Measurement& first, double noise_scale) {
     const Eigen::Index u = add_view(first.view);
-    const Matrix36 h = offset_jacobian(first.position.covariance());
+    const Matrix36 h = offset_jacobian(first);
     const Eigen::Index i = grow(3);
     // p = z − H_u β_u − e, e independent of everything.
-    mean_.segment<3>(i) = first.position.mean() - h * mean_.segment<6>(u);
-    const Eigen::MatrixXd cross = -h * covariance_.middleRows<6>(u);
+    mean_.segment<3>(i) = first.position.mean() - h * mean_.segment<kOffsetSize>(u);
+    const Eigen::MatrixXd cross = -h * covariance_.middleRows<kOffsetSize>(u);
     covariance_.middleRows<3>(i) = cross;
     covariance_.middleCols<3>(i) = cross.transpose();
     covariance_.block<3, 3>(i, i) =
-        noise_scale * first.position.covariance() + h * covariance_.block<6, 6>(u, u) * h.transpose();
+        noise_scale * first.position.covariance() + h * covariance_.block<kOffsetSize, kOffsetSize>(u, u) * h.transpose();
     objects_[first.object] = i;
   }
   void remove_object(const std::string& object) {
@@ -60,7 +61,7 @@ class DenseJointRegistration {
   Eigen::MatrixXd observation(const Measurement& m, Eigen::Index u) const {
     Eigen::MatrixXd h = Eigen::MatrixXd::Zero(3, mean_.size());
     h.middleCols<3>(objects_.at(m.object)).setIdentity();
-    h.middleCols<6>(u) = offset_jacobian(m.position.covariance());
+    h.middleCols<kOffsetSize>(u) = offset_jacobian(m);
     return h;
   }
   JointRegistration::Innovation innovation(const Measurement& m, double noise_scale) {
@@ -99,7 +100,7 @@ class DenseJointRegistration {
     for (const Measurement* m : measurements) add_view(m->view);
     Eigen::MatrixXd g = Eigen::MatrixXd::Zero(3, mean_.size());
     for (std::size_t k = 0; k < measurements.size(); ++k) {
-      g.middleCols<6>(views_.at(measurements[k]->view)) += weights[k] * offset_jacobian(measurements[k]->position.covariance());
+      g.middleCols<kOffsetSize>(views_.at(measurements[k]->view)) += weights[k] * offset_jacobian(*measurements[k]);
     }
     return g * covariance_ * g.transpose();
   }
@@ -108,9 +109,9 @@ class DenseJointRegistration {
     const Eigen::Index i = objects_.at(object);
     return covariance_.block<3, 3>(i, i);
   }
-  Eigen::Matrix<double, 6, 1> offset(const std::string& view) const { return mean_.segment<6>(views_.at(view)); }
-  Eigen::Matrix<double, 6, 6> offset_covariance(const std::string& view) const {
-    return covariance_.block<6, 6>(views_.at(view), views_.at(view));
+  OffsetVector offset(const std::string& view) const { return mean_.segment<kOffsetSize>(views_.at(view)); }
+  OffsetMatrix offset_covariance(const std::string& view) const {
+    return covariance_.block<kOffsetSize, kOffsetSize>(views_.at(view), views_.at(view));
   }
   const std::map<std::string, Eigen::Index>& objects() const { return objects_; }
   const std::map<std::string, Eigen::Index>& views() const { return views_; }
@@ -127,13 +128,13 @@ class DenseJointRegistration {
   }
   Eigen::Index add_view(const std::string& view) {
     if (const auto found = views_.find(view); found != views_.end()) return found->second;
-    const Eigen::Index u = grow(6);
-    covariance_.block<6, 6>(u, u) = prior_covariance_;
+    const Eigen::Index u = grow(kOffsetSize);
+    covariance_.block<kOffsetSize, kOffsetSize>(u, u) = prior_covariance_;
     views_[view] = u;
     return u;
   }
 
-  Eigen::Matrix<double, 6, 6> prior_covariance_;
+  OffsetMatrix prior_covariance_;
   std::map<std::string, Eigen::Index> objects_, views_;
   Eigen::VectorXd mean_;
   Eigen::MatrixXd covariance_;
@@ -170,16 +171,24 @@ void expect_same_state(const JointRegistration& factored, const DenseJointRegist
   }
 }
 
-void run_scenario(const RegistrationPrior& prior, std::uint64_t seed, int object_count = 4) {
+// `sensors`: every view's rows carry its sensor's position (drawn when the view is first seen), so
+// that H has its ray-frame factor and its range scale column.
+void run_scenario(const RegistrationPrior& prior, std::uint64_t seed, int object_count = 4, bool sensors = false) {
   std::mt19937_64 random(seed);
   std::uniform_real_distribution<double> uniform(0.0, 1.0);
   std::normal_distribution<double> normal(0.0, 1.0);
   JointRegistration factored(prior);
   DenseJointRegistration dense(prior);
+  std::map<std::string, Vector3d> sensor_of_view;
   const auto measurement = [&](const std::string& object, const std::string& view) {
     const Vector3d z(3.0 * normal(random), 3.0 * normal(random), normal(random));
-    return Measurement{"s", 0.0, view, object, Gaussian3::from_covariance(z, random_covariance(random, 0.01)),
-                       std::nullopt};
+    Measurement row{"s", 0.0, view, object, Gaussian3::from_covariance(z, random_covariance(random, 0.01)), std::nullopt};
+    if (sensors) {
+      const auto [at, added] = sensor_of_view.try_emplace(view, Vector3d::Zero());
+      if (added) at->second = Vector3d(20.0 * normal(random), 20.0 * normal(random), 5.0);
+      row.sensor_position = at->second;
+    }
+    return row;
   };
   std::vector<std::string> objects;
   for (int i = 0; i < object_count; ++i) objects.push_back(std::string(1, static_cast<char>('a' + i)));
@@ -317,6 +326,15 @@ TEST(JointRegistration, EqualsTheDenseJointKalmanFilterWithManyObjects) {
   prior.translation_sigma = Vector3d(0.2, 0.3, 0.1);
   prior.noise_ratio = Vector3d::Constant(0.5);
   for (std::uint64_t seed : {6u, 7u}) run_scenario(prior, seed, 14);
+}
+
+// With the sensors' positions: the offset factor along each ray, and a range scale ε per view.
+TEST(JointRegistration, EqualsTheDenseJointKalmanFilterWithRangeScales) {
+  RegistrationPrior prior;
+  prior.translation_sigma = Vector3d(0.2, 0.3, 0.0);
+  prior.noise_ratio = Vector3d::Constant(0.5);
+  prior.range_scale_sigma = 0.02;
+  for (std::uint64_t seed : {8u, 9u}) run_scenario(prior, seed, 4, /*sensors=*/true);
 }
 
 TEST(JointRegistration, UnknownObjectsAreLogicErrors) {

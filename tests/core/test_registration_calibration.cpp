@@ -21,7 +21,7 @@
 namespace stgf {
 namespace {
 
-using Vector6d = Eigen::Matrix<double, 6, 1>;
+using Vector6d = OffsetVector;  // (t, δ, ε)
 
 struct Simulated {
   std::vector<Measurement> measurements;
@@ -76,7 +76,10 @@ TEST(RegistrationCalibration, RecoversThePriorTheDataWereDrawnFrom) {
 // Sensors around the scene, each measurement's R long along its ray (depth) and short across it, as
 // a camera's ground points or a vehicle's detections are, and the offset in noise units drawn with α
 // per axis of the ray's frame (offset_jacobian: along the ray, across it, vertical).
-Simulated simulate_rays(const RegistrationPrior& prior, int scenes, int views, int rows, std::uint64_t seed) {
+// `ground_camera`: R along the ray grows with the square of the range (a camera's ground points), not
+// linearly, so that an offset linear in range along the ray (the range scale's) is not one in noise units.
+Simulated simulate_rays(const RegistrationPrior& prior, int scenes, int views, int rows, std::uint64_t seed,
+                        bool ground_camera = false) {
   Simulated data;
   std::mt19937_64 rng(seed);
   std::uniform_real_distribution<double> unit(0.0, 1.0);
@@ -91,13 +94,13 @@ Simulated simulate_rays(const RegistrationPrior& prior, int scenes, int views, i
       const double range = ray.head<2>().norm();
       Matrix3d turn;  // x along the ray's heading
       turn << ray.x() / range, -ray.y() / range, 0, ray.y() / range, ray.x() / range, 0, 0, 0, 1;
-      const Vector3d sigma(0.01 * range, 0.003 * range, 0.004 * range);
+      const Vector3d sigma(ground_camera ? 4e-4 * range * range : 0.01 * range, 0.003 * range, 0.004 * range);
       const Matrix3d r = turn * sigma.cwiseProduct(sigma).asDiagonal() * turn.transpose();
       Measurement measurement{"scene" + std::to_string(group / views), 0.1 * row, "view" + std::to_string(group % views),
                               "o" + std::to_string(row), Gaussian3::from_covariance(truth, r), sensor, std::nullopt};
-      const Eigen::Matrix<double, 3, 6> h = offset_jacobian(measurement);
+      const OffsetJacobian h = offset_jacobian(measurement);
       const Vector3d noise(normal(rng), normal(rng), normal(rng));
-      measurement.position = Gaussian3::from_covariance(truth + h * offset + h.rightCols<3>() * noise, r);
+      measurement.position = Gaussian3::from_covariance(truth + h * offset + h.middleCols<3>(3) * noise, r);
       data.measurements.push_back(std::move(measurement));
       data.truth.push_back(truth);
     }
@@ -127,6 +130,27 @@ TEST(RegistrationCalibration, RecoversAlphaPerAxisOfTheRays) {
   EXPECT_GT(calibration.log_likelihood_gain, one.log_likelihood_gain + 0.1);
 }
 
+// Each sensor's horizontal range scaled by 1 + ε_u (σ_ε = 1 %), as a ground-plane camera's height
+// error does: found with `range_scale`, and none where there is none; without it, σ_ε stays zero and
+// the rest is calibrated exactly as before the range scale existed.
+TEST(RegistrationCalibration, RecoversTheRangeScaleOfTheViews) {
+  RegistrationPrior prior;
+  prior.translation_sigma = Vector3d(0.1, 0.1, 0.0);
+  prior.noise_ratio = Vector3d::Constant(0.3);
+  prior.range_scale_sigma = 0.01;
+  const Simulated data = simulate_rays(prior, 125, 4, 20, 31, /*ground_camera=*/true);
+  const RegistrationCalibration scaled =
+      calibrate_registration_prior(data.measurements, data.truth, NoiseRatioAxes::kOne, /*range_scale=*/true);
+  EXPECT_NEAR(scaled.prior.range_scale_sigma, 0.01, 0.0025);
+  EXPECT_NEAR(scaled.prior.noise_ratio.x(), 0.3, 0.1) << scaled.prior.noise_ratio.transpose();
+  EXPECT_NEAR(scaled.prior.translation_sigma.x(), 0.1, 0.03) << scaled.prior.translation_sigma.transpose();
+  EXPECT_EQ(calibrate_registration_prior(data.measurements, data.truth).prior.range_scale_sigma, 0.0);
+  prior.range_scale_sigma = 0.0;
+  const Simulated plain = simulate_rays(prior, 125, 4, 20, 37, /*ground_camera=*/true);
+  EXPECT_LT(calibrate_registration_prior(plain.measurements, plain.truth, NoiseRatioAxes::kOne, true).prior.range_scale_sigma,
+            0.003);
+}
+
 TEST(RegistrationCalibration, FindsNoOffsetWhereThereIsNone) {
   const Simulated data = simulate(RegistrationPrior{}, 125, 4, 20, 8);
   const RegistrationCalibration calibration = calibrate_registration_prior(data.measurements, data.truth);
@@ -152,8 +176,7 @@ std::vector<Measurement> simulate_shared(const RegistrationPrior& prior, int sce
   for (int scene = 0; scene < scenes; ++scene) {
     std::vector<Vector6d> offsets(static_cast<std::size_t>(views));
     for (Vector6d& offset : offsets) {
-      for (int axis = 0; axis < 3; ++axis) offset[axis] = prior.translation_sigma[axis] * normal(rng);
-      for (int axis = 3; axis < 6; ++axis) offset[axis] = prior.noise_ratio[axis - 3] * normal(rng);
+      offset = draw_offset(prior, rng);
     }
     for (int time = 0; time < times; ++time) {
       for (int object = 0; object < objects; ++object) {

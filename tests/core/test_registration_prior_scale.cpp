@@ -123,14 +123,14 @@ Scene make_scene(int views, int objects, int steps, double true_scale, std::uint
   std::normal_distribution<double> normal;
   std::vector<Matrix3d> noise(static_cast<std::size_t>(views));
   std::vector<Vector3d> offset(static_cast<std::size_t>(views));
-  Eigen::Matrix<double, 6, 6> prior = kPrior.covariance();
+  OffsetMatrix prior = kPrior.covariance();
   prior.topRows<3>() *= true_scale;
-  prior.bottomRows<3>() *= noise_ratio_scale;
+  prior.bottomRows<kOffsetSize - 3>() *= noise_ratio_scale;
   for (int v = 0; v < views; ++v) {
     const double angle = 0.4 * v;
     const Eigen::Matrix3d rotation = Eigen::AngleAxisd(angle, Vector3d::UnitZ()).toRotationMatrix();
     noise[v] = rotation * Vector3d(0.02 * (1 + v % 3), 0.005, 0.001).asDiagonal() * rotation.transpose();
-    Eigen::Matrix<double, 6, 1> beta;
+    OffsetVector beta = OffsetVector::Zero();  // (t, δ); kPrior has no range scale
     for (int j = 0; j < 6; ++j) beta(j) = std::sqrt(prior(j, j)) * normal(random);
     offset[v] = offset_jacobian(noise[v]) * beta;  // H_u β_u
   }

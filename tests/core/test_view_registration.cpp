@@ -25,8 +25,8 @@
 namespace stgf {
 namespace {
 
-using Matrix36 = Eigen::Matrix<double, 3, 6>;
-using Vector6d = Eigen::Matrix<double, 6, 1>;
+using Matrix36 = OffsetJacobian;
+using Vector6d = OffsetVector;  // (t, δ, ε)
 using testing::random_spd;
 using testing::relative_difference;
 
@@ -41,11 +41,12 @@ std::vector<const Measurement*> pointers(const std::vector<Measurement>& rows) {
   return result;
 }
 
-// H = [I  L], L Lᵀ = R: how an offset (t, δ) moves a measurement with noise R.
+// H = [I  L  0], L Lᵀ = R: how an offset (t, δ, ε) moves a measurement with noise R (no sensor
+// position: no range to scale).
 Matrix36 offset_jacobian(const Matrix3d& r) {
-  Matrix36 jacobian;
+  Matrix36 jacobian = Matrix36::Zero();
   jacobian.leftCols<3>().setIdentity();
-  jacobian.rightCols<3>() = r.llt().matrixL();
+  jacobian.middleCols<3>(3) = r.llt().matrixL();
   return jacobian;
 }
 
@@ -71,10 +72,11 @@ TEST(ViewRegistration, OffsetJacobianHoldsEigensCholeskyFactorBitForBit) {
   for (int trial = 0; trial < 2000; ++trial) {
     const double scale = std::pow(10.0, -6.0 + 12.0 * (trial % 100) / 99.0);
     const Matrix3d r = random_spd(rng, scale, trial % 2 == 0 ? 10.0 : 1e6);
-    const Eigen::Matrix<double, 3, 6> h = offset_jacobian(r);
+    const OffsetJacobian h = offset_jacobian(r);
     const Matrix3d l = r.llt().matrixL();
     EXPECT_EQ(h.leftCols<3>(), Matrix3d::Identity());
-    ASSERT_EQ(h.rightCols<3>(), l) << "R =\n" << r;
+    ASSERT_EQ(h.middleCols<3>(3), l) << "R =\n" << r;
+    ASSERT_EQ(h.col(6), Vector3d::Zero());  // no sensor: no range to scale
   }
 }
 
@@ -96,11 +98,12 @@ TEST(ViewRegistration, OffsetJacobianAlongTheRayTurnsWithTheWorldFrame) {
     const Matrix36 h = offset_jacobian(row);
     EXPECT_EQ(h.leftCols<3>(), Matrix3d::Identity());
     EXPECT_LT((h.col(3) - 0.3 * ray).norm(), 1e-12) << "heading " << heading;  // √0.09 along the ray
-    EXPECT_LT((h.rightCols<3>() * h.rightCols<3>().transpose() - r).norm(), 1e-12);
+    EXPECT_LT((h.middleCols<3>(3) * h.middleCols<3>(3).transpose() - r).norm(), 1e-12);
+    EXPECT_LT((h.col(6) - 12.0 * ray).norm(), 1e-12) << "heading " << heading;  // ε's: the horizontal range
     const Matrix3d turn = Eigen::AngleAxisd(angle(rng), Vector3d::UnitZ()).toRotationMatrix();
     Measurement turned = measurement("v", "o", turn * row.position.mean(), turn * r * turn.transpose());
     turned.sensor_position = turn * *row.sensor_position;
-    EXPECT_LT((offset_jacobian(turned).rightCols<3>() - turn * h.rightCols<3>()).norm(), 1e-12);
+    EXPECT_LT((offset_jacobian(turned).rightCols<4>() - turn * h.rightCols<4>()).norm(), 1e-11);
     row.sensor_position.reset();
     EXPECT_EQ(offset_jacobian(row), offset_jacobian(row.position.covariance()));
   }
@@ -130,7 +133,7 @@ TEST(ViewRegistration, ZeroPriorIsTheInformationWeightedMeanAndLearnsNothing) {
     EXPECT_EQ(after.covariance(), before.covariance());
     for (const char* view : {"a", "b", "c"}) {
       EXPECT_EQ(registration.offset(view), Vector6d::Zero());
-      EXPECT_EQ(registration.offset_covariance(view), (Eigen::Matrix<double, 6, 6>::Zero()));
+      EXPECT_EQ(registration.offset_covariance(view), (OffsetMatrix::Zero()));
     }
   }
 }
@@ -139,7 +142,7 @@ TEST(ViewRegistration, SingleViewNeverLearnsAndCarriesItsWholePrior) {
   RegistrationPrior prior;
   prior.translation_sigma = Vector3d(0.3, 0.2, 0.1);
   prior.noise_ratio = Vector3d::Constant(0.5);
-  Eigen::Matrix<double, 6, 6> prior_covariance = Eigen::Matrix<double, 6, 6>::Zero();
+  OffsetMatrix prior_covariance = OffsetMatrix::Zero();
   prior_covariance.diagonal() << 0.3 * 0.3, 0.2 * 0.2, 0.1 * 0.1, 0.5 * 0.5, 0.5 * 0.5, 0.5 * 0.5;
 
   Matrix3d r;

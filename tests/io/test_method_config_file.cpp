@@ -109,6 +109,10 @@ TEST(MethodConfigFile, ReadsOursSettings) {
       parse_method_config("c.yaml", "ours:\n  registration_noise_ratio: [0.1, 0.6, 0.3]\n");
   ASSERT_TRUE(axes.ours.noise_ratio.has_value());
   EXPECT_EQ(*axes.ours.noise_ratio, Vector3d(0.1, 0.6, 0.3));
+  EXPECT_FALSE(axes.ours.range_scale_sigma.has_value());
+  const MethodConfig scale = parse_method_config("c.yaml", "ours:\n  registration_range_scale_sigma: 0.008\n");
+  ASSERT_TRUE(scale.ours.range_scale_sigma.has_value());
+  EXPECT_EQ(*scale.ours.range_scale_sigma, 0.008);
   EXPECT_DOUBLE_EQ(scalar.mmt.velocity_noise_density, 2.0);
 
   EXPECT_TRUE(parse_method_config("c.yaml", "ours:\n  registration: true\n").ours.registration);
@@ -126,6 +130,10 @@ TEST(MethodConfigFile, OursErrorsNameTheLine) {
             "c.yaml:2: ours.registration_noise_ratio must be one number or a list of three (along, across, vertical)");
   EXPECT_EQ(error_of("ours:\n  registration_noise_ratio: [0.3, -0.2, 0.1]\n"),
             "c.yaml:2: ours.registration_noise_ratio must be a finite number >= 0");
+  EXPECT_EQ(error_of("ours:\n  registration_range_scale_sigma: -0.01\n"),
+            "c.yaml:2: ours.registration_range_scale_sigma must be a finite number >= 0");
+  EXPECT_EQ(error_of("ours:\n  registration_range_scale_sigma: [0.01, 0.02]\n"),
+            "c.yaml:2: ours.registration_range_scale_sigma must be a number");
   EXPECT_EQ(error_of("ours:\n  registration_translation_sigma_m:\n    - 0.3\n    - -0.2\n    - 0\n"),
             "c.yaml:4: ours.registration_translation_sigma_m must be a finite number >= 0");
   EXPECT_EQ(error_of("ours:\n  registration_translation_sigma_m: -1\n"),

@@ -32,6 +32,27 @@ TEST(RegistrationMetadata, RoundTrip) {
   EXPECT_EQ(prior->translation_sigma, calibrated_prior().translation_sigma);
   EXPECT_EQ(prior->noise_ratio, calibrated_prior().noise_ratio);
   EXPECT_EQ(reread.at("registration").at("translation_sigma_m").size(), 3u);
+  EXPECT_EQ(prior->range_scale_sigma, 0.0);
+  EXPECT_FALSE(reread.at("registration").contains("range_scale_sigma"));  // none: the file as before it existed
+}
+
+// A range scale is written and read back; one that is negative or not a number is malformed.
+TEST(RegistrationMetadata, RangeScaleRoundTrip) {
+  RegistrationPrior scaled = calibrated_prior();
+  scaled.range_scale_sigma = 0.0083;
+  const nlohmann::json reread = nlohmann::json::parse(metadata_with(scaled).dump());
+  EXPECT_EQ(reread.at("registration").at("range_scale_sigma").get<double>(), 0.0083);
+  EXPECT_EQ(registration_prior_from_metadata(reread, "m.pt")->range_scale_sigma, 0.0083);
+  for (const nlohmann::json& bad : {nlohmann::json(-0.01), nlohmann::json("wide")}) {
+    nlohmann::json metadata = reread;
+    metadata["registration"]["range_scale_sigma"] = bad;
+    expect_input_error([&] { registration_prior_from_metadata(metadata, "models/m.pt"); }, "models/m.pt", 0);
+  }
+  // A setting overrides the calibration, as σ and α do.
+  OursSettings settings;
+  settings.range_scale_sigma = 0.02;
+  EXPECT_EQ(resolve_registration_prior(settings, reread, "m.pt").range_scale_sigma, 0.02);
+  EXPECT_EQ(resolve_registration_prior(OursSettings{}, reread, "m.pt").range_scale_sigma, 0.0083);
 }
 
 TEST(RegistrationMetadata, MissingCalibrationIsNullopt) {

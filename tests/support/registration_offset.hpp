@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: Apache-2.0
 #pragma once
-// A view's registration offset β = (t, δ) drawn from a prior, for tests that simulate one.
+// A view's registration offset β = (t, δ, ε) drawn from a prior, for tests that simulate one.
 
 #include <random>
 
@@ -10,12 +10,13 @@
 
 namespace stgf::testing {
 
-// t along the world axes with σ, δ along the axes of offset_jacobian's frame with α.
-inline Eigen::Matrix<double, 6, 1> draw_offset(const RegistrationPrior& prior, std::mt19937_64& rng) {
+// t along the world axes with σ, δ along the axes of offset_jacobian's frame with α, ε with σ_ε.
+inline OffsetVector draw_offset(const RegistrationPrior& prior, std::mt19937_64& rng) {
   std::normal_distribution<double> normal;
-  Eigen::Matrix<double, 6, 1> offset;
+  OffsetVector offset;
   for (int axis = 0; axis < 3; ++axis) offset[axis] = prior.translation_sigma[axis] * normal(rng);
   for (int axis = 3; axis < 6; ++axis) offset[axis] = prior.noise_ratio[axis - 3] * normal(rng);
+  offset[6] = prior.range_scale_sigma * normal(rng);
   return offset;
 }
 

@@ -1,0 +1,48 @@
+#!/usr/bin/env bash
+# SPDX-License-Identifier: Apache-2.0
+# The registration's range scale (design §1.7, `stgf train --range-scale`) measured on the cameras:
+# four mpl models trained as scripts/results.sh trains its own (8 epochs, seed 1, --portable) and
+# calibrated on mpl val — as by default (one α), with per-axis α, with a range scale and one α, and
+# with a range scale and per-axis α — each scored by `ours` on mpl val and
+# the 3× and 5× calibration-error proxies' val splits (what the choice is made on), then on their test
+# splits. Seed 1. Run scripts/results.sh and scripts/generalization.sh first. Prints a markdown table.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+bench=build/reproduce/benchmarks/mpl
+proxies=build/generalization
+[ -d "$bench" ] || { echo "run scripts/results.sh first" >&2; exit 2; }
+[ -d "$proxies/mpl-calibration-x5" ] || { echo "run scripts/generalization.sh first" >&2; exit 2; }
+out=build/range-scale
+mkdir -p "$out"
+declare -A options=([default]="" [per-axis]="--noise-ratio per-axis" [range-scale]="--range-scale"
+                    [per-axis-range-scale]="--noise-ratio per-axis --range-scale")
+for name in default per-axis range-scale per-axis-range-scale; do
+  # shellcheck disable=SC2086
+  [ -f "$out/$name.pt" ] || build/stgf train --benchmark "$bench" --out "$out/$name.pt" --epochs 8 --seed 1 \
+    --threads 2 --portable ${options[$name]} > "$out/$name-train.log" 2>&1
+done
+score() {  # score MODEL DIR SPLIT: "DE / NEES" of ours
+  local estimates="$out/estimates.csv"
+  rm -f "$estimates"
+  build/stgf run --method ours --model "$1" --measurements "$2/$3/measurements.csv" --out "$estimates" 2>/dev/null
+  build/stgf eval --truth "$2/$3/truth.csv" --estimates "$estimates" --measurements "$2/$3/measurements.csv" \
+    --from-step 2 2>/dev/null | awk -F'|' '$2 ~ /^ *ours *$/ { gsub(/ /, "", $4); gsub(/ /, "", $6); print $4 " / " $6; exit }'
+  rm -f "$estimates"
+}
+echo "| model (calibrated on mpl val) | mpl val | 3× val | 5× val | mpl test | 3× test | 5× test |"
+echo "|---|---:|---:|---:|---:|---:|---:|"
+for name in default per-axis range-scale per-axis-range-scale; do
+  model="$out/$name.pt"
+  row="| $name"
+  for split in val test; do
+    for dir in "$bench" "$proxies/mpl-calibration-x3" "$proxies/mpl-calibration-x5"; do
+      row="$row | $(score "$model" "$dir" "$split")"
+    done
+  done
+  echo "$row |"
+done
+echo
+echo "Calibrations (train logs):"
+for name in default per-axis range-scale per-axis-range-scale; do
+  echo "- $name: $(grep -o 'translation sigma.*\|range scale sigma.*' "$out/$name-train.log" | tr '\n' ' ')"
+done
