@@ -143,7 +143,7 @@ TEST(ViewRegistration, SingleViewNeverLearnsAndCarriesItsWholePrior) {
   prior.translation_sigma = Vector3d(0.3, 0.2, 0.1);
   prior.noise_ratio = Vector3d::Constant(0.5);
   OffsetMatrix prior_covariance = OffsetMatrix::Zero();
-  prior_covariance.diagonal() << 0.3 * 0.3, 0.2 * 0.2, 0.1 * 0.1, 0.5 * 0.5, 0.5 * 0.5, 0.5 * 0.5;
+  prior_covariance.diagonal() << 0.3 * 0.3, 0.2 * 0.2, 0.1 * 0.1, 0.5 * 0.5, 0.5 * 0.5, 0.5 * 0.5, 0.0;  // no range scale
 
   Matrix3d r;
   r << 0.04, 0.01, 0.0, 0.01, 0.09, 0.002, 0.0, 0.002, 0.02;
