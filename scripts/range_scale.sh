@@ -3,7 +3,8 @@
 # The registration's range scale (design §1.7, `stgf train --range-scale`) measured on the cameras:
 # four mpl models trained as scripts/results.sh trains its own (8 epochs, seed 1, --portable) and
 # calibrated on mpl val — as by default (one α), with per-axis α, with a range scale and one α, and
-# with a range scale and per-axis α — each scored by `ours` on mpl val and
+# with a range scale and per-axis α — each scored by `ours` (and the first and last also with the
+# prior's scales learned across scenes, `registration_prior_scale: across-scenes`) on mpl val and
 # the 3× and 5× calibration-error proxies' val splits (what the choice is made on), then on their test
 # splits. Seed 1. Run scripts/results.sh and scripts/generalization.sh first. Prints a markdown table.
 set -euo pipefail
@@ -21,22 +22,27 @@ for name in default per-axis range-scale per-axis-range-scale; do
   [ -f "$out/$name.pt" ] || build/stgf train --benchmark "$bench" --out "$out/$name.pt" --epochs 8 --seed 1 \
     --threads 2 --portable ${options[$name]} > "$out/$name-train.log" 2>&1
 done
-score() {  # score MODEL DIR SPLIT: "DE / NEES" of ours
+printf 'ours:\n  registration_prior_scale: across-scenes\n' > "$out/across-scenes.yaml"
+printf 'ours:\n  registration_prior_scale: per-scene\n' > "$out/per-scene.yaml"
+score() {  # score MODEL DIR SPLIT CONFIG: "DE / NEES" of ours
   local estimates="$out/estimates.csv"
   rm -f "$estimates"
-  build/stgf run --method ours --model "$1" --measurements "$2/$3/measurements.csv" --out "$estimates" 2>/dev/null
+  build/stgf run --method ours --model "$1" --config "$4" --measurements "$2/$3/measurements.csv" --out "$estimates" 2>/dev/null
   build/stgf eval --truth "$2/$3/truth.csv" --estimates "$estimates" --measurements "$2/$3/measurements.csv" \
     --from-step 2 2>/dev/null | awk -F'|' '$2 ~ /^ *ours *$/ { gsub(/ /, "", $4); gsub(/ /, "", $6); print $4 " / " $6; exit }'
   rm -f "$estimates"
 }
 echo "| model (calibrated on mpl val) | mpl val | 3× val | 5× val | mpl test | 3× test | 5× test |"
 echo "|---|---:|---:|---:|---:|---:|---:|"
-for name in default per-axis range-scale per-axis-range-scale; do
-  model="$out/$name.pt"
+for run in default per-axis range-scale per-axis-range-scale default:across-scenes per-axis-range-scale:across-scenes; do
+  name=${run%%:*}
+  scales=per-scene
+  [ "$name" = "$run" ] || scales=${run#*:}
   row="| $name"
+  [ "$scales" = per-scene ] || row="$row, κ $scales"
   for split in val test; do
     for dir in "$bench" "$proxies/mpl-calibration-x3" "$proxies/mpl-calibration-x5"; do
-      row="$row | $(score "$model" "$dir" "$split")"
+      row="$row | $(score "$out/$name.pt" "$dir" "$split" "$out/$scales.yaml")"
     done
   done
   echo "$row |"

@@ -132,6 +132,10 @@ class JointRegistration {
                            std::span<const Matrix3d> alignment_covariances = {});
   bool adapt_prior_scale();
   RegistrationPriorScales prior_scales() const { return prior_scale_.scales(); }
+  // The evidence's log likelihood grid of the scales (RegistrationPriorScale::log_likelihood_grid) and
+  // its size (difference dimensions; 0: none).
+  std::vector<double> prior_scale_log_likelihood_grid() const { return prior_scale_.log_likelihood_grid(); }
+  double prior_scale_evidence() const { return prior_scale_.evidence_dimensions(); }
   bool prior_scale_estimated() const { return prior_scale_.estimated(); }  // else κ = 1: too little evidence
   // Σ₀ with its translation block scaled by κ_t and its noise-ratio block by κ_n: the prior of a view
   // not yet seen.

@@ -152,6 +152,17 @@ std::array<double, RegistrationPriorScale::kGridPoints> RegistrationPriorScale::
   return log_marginal_likelihoods(tridiagonal.diagonal(), tridiagonal.subDiagonal(), g);
 }
 
+std::vector<double> RegistrationPriorScale::log_likelihood_grid() const {
+  const ScaledEvidence evidence = scaled_evidence();
+  std::vector<double> grid;
+  grid.reserve(17 * kGridPoints);
+  for (int ratio = -8; ratio <= 8; ++ratio) {
+    const std::array<double, kGridPoints> values = log_likelihood(evidence, static_cast<double>(ratio));
+    grid.insert(grid.end(), values.begin(), values.end());
+  }
+  return grid;
+}
+
 double RegistrationPriorScale::scale(Group group) const {
   switch (group) {
     case Group::kTranslation: return translation_scale_;

@@ -135,6 +135,9 @@ class RegistrationPriorScale {
   // The log marginal likelihood (up to a constant) of κ_t = 2^(grid index / 4 − 10) and κ_n = ρ κ_t
   // for the evidence so far.
   std::vector<double> log_likelihood(double log2_ratio = 0.0) const;
+  // log_likelihood for log2 ρ = −8, −7, …, 8 in turn (17 × 81, ratio-major): the scene's part of the
+  // scales learned across scenes (registration_scale_pool.hpp).
+  std::vector<double> log_likelihood_grid() const;
 
  private:
   // The scaled coordinates' A and b (fixed ones integrated out), and for each its prior information

@@ -365,7 +365,7 @@ void SceneFilter::close_frames(double time) {
     }
     track.close_frame(predictor_);
   }
-  if (compared) state_.joint.adapt_prior_scale();
+  if (compared && !options_.hold_registration_prior_scale) state_.joint.adapt_prior_scale();
 }
 
 OffsetVector SceneFilter::registration_offset(std::string_view view) const {
@@ -628,7 +628,7 @@ void SceneFilter::process_joint(Event& event) {
       track.count_gated_event();
     }
   }
-  if (options_.adapt_registration_prior) state_.joint.adapt_prior_scale();
+  if (options_.adapt_registration_prior && !options_.hold_registration_prior_scale) state_.joint.adapt_prior_scale();
   std::vector<std::string_view> objects;
   objects.reserve(checked.size());
   for (const Checked& object : checked) objects.push_back(event.rows[object.first].measurement.object);

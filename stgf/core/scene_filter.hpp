@@ -114,6 +114,9 @@ struct FilterOptions {
   // kPerObject: learn the registration prior's scales κ_t, κ_n from the views' disagreements
   // (registration_prior_scale.hpp; false: κ = 1, the prior as given)
   bool adapt_registration_prior = true;
+  // With adapt_registration_prior: gather the disagreements' evidence, but keep the prior as given
+  // (its scales come from other scenes: registration_scale_pool.hpp).
+  bool hold_registration_prior_scale = false;
   TrackMode tracks = TrackMode::kPerObject;
   double lag_window = 1.0;                  // s: how late a measurement may come and still count
   // Each Result carries what its track predicted (false: none, for a caller that does not read
@@ -192,6 +195,10 @@ class SceneFilter {
   // views' same-time disagreements reached RegistrationPriorScale::kFirstEstimateDimensions.
   RegistrationPriorScales registration_prior_scales() const { return state_.joint.prior_scales(); }
   bool registration_prior_scale_learned() const { return state_.joint.prior_scale_estimated(); }
+  // The scene's evidence on the scales, as a grid (registration_scale_pool.hpp); empty without any.
+  std::vector<double> registration_likelihood_grid() const {
+    return state_.joint.prior_scale_evidence() > 0.0 ? state_.joint.prior_scale_log_likelihood_grid() : std::vector<double>{};
+  }
   // The latest event time processed (−∞ before any).
   double latest_time() const { return latest_time_; }
 

@@ -175,6 +175,9 @@ void read_ours(const std::string& path, const YAML::Node& node, OursSettings& se
       }
     } else if (key == "registration_noise_ratio") {
       settings.noise_ratio = one_or_three_non_negative(path, name, entry.second, "along, across, vertical");
+    } else if (key == "registration_prior_scale") {
+      settings.registration_scale_across_scenes =
+          one_of(path, name, entry.second, {"per-scene", "across-scenes"}) == "across-scenes";
     } else if (key == "registration_range_scale_sigma") {
       settings.range_scale_sigma = non_negative_number(path, name, entry.second);
     } else if (key == "tracks") {

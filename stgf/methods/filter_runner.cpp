@@ -2,6 +2,7 @@
 #include "stgf/methods/filter_runner.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <memory>
 #include <stdexcept>
 
@@ -60,9 +61,16 @@ void collect(SceneFilter& filter, std::vector<SceneFilter::Result>& results, Est
   }
 }
 
+// The scales the pool gave the block, and where its first scene is in the whole run.
+struct PooledScales {
+  RegistrationScalePool* pool = nullptr;
+  std::size_t first_scene = 0;
+  std::optional<RegistrationScalePool::Point> applied;  // none: each scene learns its own
+};
+
 void run_block(const MotionPredictor& predictor, const FilterOptions& options, std::span<const Measurement> measurements,
                std::span<const Scene> scenes, bool by_arrival, Estimated& estimated, FilterRun& run,
-               bool keep_predictions) {
+               bool keep_predictions, const PooledScales& pooled) {
   std::vector<SceneRun> block;
   block.reserve(scenes.size());
   for (const Scene& scene : scenes) {
@@ -110,7 +118,12 @@ void run_block(const MotionPredictor& predictor, const FilterOptions& options, s
       next_graph += count;
     }
   }
-  for (const SceneRun& scene : block) {
+  for (std::size_t s = 0; s < block.size(); ++s) {
+    const SceneRun& scene = block[s];
+    if (pooled.pool != nullptr) {
+      const std::vector<double> grid = scene.filter->registration_likelihood_grid();
+      if (!grid.empty()) pooled.pool->add(pooled.first_scene + s, grid, pooled.applied.value_or(RegistrationScalePool::Point{}));
+    }
     run.restarted_tracks += scene.filter->restarted_tracks();
     run.coasting_predictions += scene.filter->coasting_predictions();
     run.late_measurements += scene.filter->late_measurements();
@@ -120,7 +133,9 @@ void run_block(const MotionPredictor& predictor, const FilterOptions& options, s
     run.gating.refilters += scene.filter->refilters();
     run.motion_choice.add(scene.filter->motion_choice());
     if (options.adapt_registration_prior && !options.registration.is_zero() && options.tracks == TrackMode::kPerObject) {
-      if (scene.filter->registration_prior_scale_learned()) {
+      if (pooled.applied) {
+        run.registration_prior_scales.push_back(pooled.applied->scales());
+      } else if (scene.filter->registration_prior_scale_learned()) {
         run.registration_prior_scales.push_back(scene.filter->registration_prior_scales());
       } else {
         ++run.scenes_without_prior_scale;
@@ -132,7 +147,8 @@ void run_block(const MotionPredictor& predictor, const FilterOptions& options, s
 }  // namespace
 
 FilterRun run_spatiotemporal_graph_filter(const MotionPredictor& predictor, const FilterOptions& options,
-                                          std::span<const Measurement> measurements, bool keep_predictions) {
+                                          std::span<const Measurement> measurements, bool keep_predictions,
+                                          RegistrationScalePool* pool, std::size_t first_scene) {
   const auto with_arrival = std::count_if(measurements.begin(), measurements.end(),
                                           [](const Measurement& measurement) { return measurement.arrival.has_value(); });
   if (with_arrival != 0 && static_cast<std::size_t>(with_arrival) != measurements.size()) {
@@ -152,10 +168,31 @@ FilterRun run_spatiotemporal_graph_filter(const MotionPredictor& predictor, cons
   for (const Measurement& measurement : measurements) run.estimates.push_back(measurement.position);
   Estimated estimated(measurements.size(), false);
   if (keep_predictions) run.predictions.resize(measurements.size());
-  for (std::size_t first = 0; first < scenes.size(); first += kScenesPerFilterBlock) {
-    const std::size_t count = std::min(kScenesPerFilterBlock, scenes.size() - first);
-    run_block(predictor, scene_options, measurements, std::span(scenes).subspan(first, count), by_arrival, estimated,
-              run, keep_predictions);
+  run.scenes = scenes.size();
+  const bool pooling = pool != nullptr && scene_options.adapt_registration_prior && !scene_options.registration.is_zero() &&
+                       scene_options.tracks == TrackMode::kPerObject;
+  for (std::size_t first = 0; first < scenes.size();) {
+    std::size_t count = std::min(kScenesPerFilterBlock, scenes.size() - first);
+    PooledScales pooled;
+    FilterOptions block_options = scene_options;
+    if (pooling) {
+      // A block within one epoch of the pool: its scenes share the pool's estimate.
+      const std::size_t global = first_scene + first;
+      const std::size_t epoch_end = (global / RegistrationScalePool::kSceneEpoch + 1) * RegistrationScalePool::kSceneEpoch;
+      count = std::min(count, epoch_end - global);
+      pooled = PooledScales{pool, global, pool->estimate_for(global)};
+      if (pooled.applied) {
+        const RegistrationPriorScales scales = pooled.applied->scales();
+        RegistrationPrior& prior = block_options.registration;
+        prior.translation_sigma *= std::sqrt(scales.translation);
+        prior.noise_ratio *= std::sqrt(scales.noise_ratio);
+        prior.range_scale_sigma *= std::sqrt(scales.noise_ratio);
+        block_options.hold_registration_prior_scale = true;
+      }
+    }
+    run_block(predictor, block_options, measurements, std::span(scenes).subspan(first, count), by_arrival, estimated,
+              run, keep_predictions, pooled);
+    first += count;
   }
   if (std::find(estimated.begin(), estimated.end(), false) != estimated.end()) {
     throw std::logic_error("run_spatiotemporal_graph_filter: a row got no estimate");

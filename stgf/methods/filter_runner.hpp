@@ -25,6 +25,7 @@
 #include <span>
 #include <vector>
 
+#include "stgf/core/registration_scale_pool.hpp"
 #include "stgf/core/scene_filter.hpp"
 
 namespace stgf {
@@ -50,10 +51,16 @@ struct FilterRun {
   std::vector<RegistrationPriorScales> registration_prior_scales;
   std::size_t scenes_without_prior_scale = 0;
   MotionChoiceSummary motion_choice;   // which motion the scenes followed (motion_choice.hpp)
+  std::size_t scenes = 0;              // in the list
 };
 
 // Throws std::invalid_argument when some rows have an arrival time and others not.
+// `pool`: the registration prior's scales learned across scenes (registration_scale_pool.hpp): each
+// scene runs with the prior scaled by the pool's estimate for its place in the list (`first_scene` is
+// the place of the list's first scene in the whole run), held there, and adds its evidence; scenes of
+// the first epoch learn their own scales as without it. None: each scene learns its own.
 FilterRun run_spatiotemporal_graph_filter(const MotionPredictor& predictor, const FilterOptions& options,
-                                          std::span<const Measurement> measurements, bool keep_predictions = false);
+                                          std::span<const Measurement> measurements, bool keep_predictions = false,
+                                          RegistrationScalePool* pool = nullptr, std::size_t first_scene = 0);
 
 }  // namespace stgf

@@ -24,6 +24,7 @@ struct OursSettings {
   bool adapt_process_noise = true;            // scale Q online from the innovations
   MotionFallback motion_fallback = MotionFallback::kAuto;  // constant velocity where it predicts better
   bool adapt_registration_prior = true;       // scale the registration prior from the views' disagreements
+  bool registration_scale_across_scenes = false;  // ... pooled over the run's scenes (registration_scale_pool.hpp)
   bool per_view_tracks = false;               // the paper's per-view tracks instead of one per object
   double lag_window = 1.0;                    // s: how late a message may arrive and still be fused in place
   bool stop_on_late = false;                  // a message later than that: stop (true) or leave it out

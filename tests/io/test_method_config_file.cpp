@@ -130,6 +130,10 @@ TEST(MethodConfigFile, OursErrorsNameTheLine) {
             "c.yaml:2: ours.registration_noise_ratio must be one number or a list of three (along, across, vertical)");
   EXPECT_EQ(error_of("ours:\n  registration_noise_ratio: [0.3, -0.2, 0.1]\n"),
             "c.yaml:2: ours.registration_noise_ratio must be a finite number >= 0");
+  EXPECT_EQ(error_of("ours:\n  registration_prior_scale: everywhere\n"),
+            "c.yaml:2: ours.registration_prior_scale must be per-scene or across-scenes");
+  EXPECT_TRUE(parse_method_config("c.yaml", "ours:\n  registration_prior_scale: across-scenes\n").ours.registration_scale_across_scenes);
+  EXPECT_FALSE(parse_method_config("c.yaml", "ours:\n  registration_prior_scale: per-scene\n").ours.registration_scale_across_scenes);
   EXPECT_EQ(error_of("ours:\n  registration_range_scale_sigma: -0.01\n"),
             "c.yaml:2: ours.registration_range_scale_sigma must be a finite number >= 0");
   EXPECT_EQ(error_of("ours:\n  registration_range_scale_sigma: [0.01, 0.02]\n"),

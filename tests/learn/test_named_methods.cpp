@@ -9,6 +9,7 @@
 #include <gtest/gtest.h>
 
 #include "stgf/datasets/synthetic.hpp"
+#include "stgf/io/method_config_file.hpp"
 #include "stgf/model/learned_methods.hpp"
 #include "stgf/model/motion_graphs.hpp"
 #include "stgf/methods/filter_runner.hpp"
@@ -66,8 +67,9 @@ void expect_identical(const std::vector<Gaussian3>& a, const std::vector<Gaussia
   EXPECT_EQ(differing, 0u) << what << ": rows whose estimate is not bit for bit the whole run's";
 }
 
-std::vector<Gaussian3> in_parts(const std::string& method, std::size_t scenes_per_part, MethodRunReport& report) {
-  NamedMethodRun run(method, MethodConfig{}, &model(), "model.pt");
+std::vector<Gaussian3> in_parts(const std::string& method, std::size_t scenes_per_part, MethodRunReport& report,
+                                const MethodConfig& config = MethodConfig{}) {
+  NamedMethodRun run(method, config, &model(), "model.pt");
   std::vector<Gaussian3> estimates;
   for (std::span<const Measurement> part : parts_of(many_scenes(), scenes_per_part)) {
     const std::vector<Gaussian3> now = run.add(part);
@@ -93,6 +95,28 @@ TEST(NamedMethodRun, PartsOfAnySizeGiveTheWholeRunsEstimates) {
       EXPECT_EQ(parts_report.gating.checked, whole_report.gating.checked) << method;
     }
   }
+}
+
+// With the registration prior's scales learned across scenes, each scene's scales come from the
+// epochs before its own, whatever the parts: the same estimates, bit for bit, and different from
+// each scene learning its own.
+TEST(NamedMethodRun, ScalesAcrossScenesDoNotDependOnTheParts) {
+  const std::string prior = "ours:\n  registration_translation_sigma_m: 0.1\n  registration_noise_ratio: 0.5\n";
+  const MethodConfig across = parse_method_config("c.yaml", prior + "  registration_prior_scale: across-scenes\n");
+  const MethodConfig per_scene = parse_method_config("c.yaml", prior);
+  MethodRunReport whole_report;
+  const std::vector<Gaussian3> whole = run_named_method("ours", across, &model(), "model.pt", many_scenes(), &whole_report);
+  for (const std::size_t scenes : {kScenesPerFilterBlock, std::size_t{7}, std::size_t{256}}) {
+    MethodRunReport parts_report;
+    expect_identical(in_parts("ours", scenes, parts_report, across), whole, "in parts of " + std::to_string(scenes));
+  }
+  // The scenes after the first epoch ran with the pooled scales, every one of them reported.
+  EXPECT_GE(whole_report.registration_prior_scales.size(), 300u - RegistrationScalePool::kSceneEpoch);
+  MethodRunReport own_report;
+  const std::vector<Gaussian3> own = run_named_method("ours", per_scene, &model(), "model.pt", many_scenes(), &own_report);
+  std::size_t differing = 0;
+  for (std::size_t k = 0; k < own.size(); ++k) differing += own[k].covariance() != whole[k].covariance();
+  EXPECT_GT(differing, 0u);
 }
 
 // sttp and the model-free methods do not depend on the parts' size at all.

@@ -1,0 +1,63 @@
+// SPDX-License-Identifier: Apache-2.0
+#pragma once
+// The registration prior's scales learned across scenes (design §1.7, `registration_prior_scale:
+// across-scenes`). Each scene learns κ_t, κ_n from its own views' disagreements, held near 1 by its
+// prior (registration_prior_scale.hpp): short scenes cannot move far, so on sensors registered several
+// times worse than the training data's the offsets' size stays short of the truth and the covariance
+// too narrow. The scenes of one run come from the same sensors: their log likelihoods of the scales
+// add up. This pool sums them, scene by scene in list order, and gives the scales that maximise the
+// sum of the scenes of earlier *epochs* (kSceneEpoch scenes each), so that a scene's scales depend on
+// its place in the list only — not on how the list was cut into parts or blocks, nor on threads.
+//
+// Grids. A scene's grid is log p(its disagreements | κ) over κ_t = 2^(k/4 − 10) (k = 0 … 80) and
+// ρ = κ_n / κ_t = 2^(r − 8) (r = 0 … 16), relative to the prior it ran with. A scene that ran with
+// the prior scaled by grid scales (k*, r*) is shifted to the calibration's: k + k* − 40, r + r* − 8.
+// The estimate is the argmax over the points every summed scene covers (within the grid's range).
+// Assumption: every scene's views share the two sizes of offset (as registration_prior_scale.hpp);
+// with the model fitting the sensors (on cameras, with the range scale: design §1.7) the summed
+// likelihood peaks at their true size.
+
+#include <cstddef>
+#include <optional>
+#include <span>
+#include <vector>
+
+#include "stgf/core/registration_prior_scale.hpp"
+
+namespace stgf {
+
+class RegistrationScalePool {
+ public:
+  static constexpr std::size_t kSceneEpoch = 16;
+  static constexpr int kRatioIndices = 17;  // log2 ρ = −8 … 8
+  static constexpr int kScaleIndices = RegistrationPriorScale::kGridPoints;
+  static constexpr int kUnitScale = 40;     // k of κ_t = 1
+  static constexpr int kUnitRatio = 8;      // r of ρ = 1
+
+  // A grid point of the scales: κ_t = 2^(scale / 4 − 10), κ_n = κ_t 2^(ratio − 8).
+  struct Point {
+    int scale = kUnitScale;
+    int ratio = kUnitRatio;
+    RegistrationPriorScales scales() const;
+  };
+
+  // Adds the grid (kRatioIndices × kScaleIndices, ratio-major) of the scene at `scene_index` in the
+  // list, which ran with the prior scaled by `applied`. Scenes must come in list order of epochs.
+  void add(std::size_t scene_index, std::span<const double> grid, Point applied);
+  // The scales for the scene at `scene_index`: the argmax over the scenes of the epochs before its
+  // own; none in the first epoch (or when none of them had disagreements).
+  std::optional<Point> estimate_for(std::size_t scene_index) const;
+
+ private:
+  static constexpr int kScaleSpan = kScaleIndices + 2 * kUnitScale;  // k + k* − 40 ∈ [−40, 120]
+  static constexpr int kRatioSpan = kRatioIndices + 2 * kUnitRatio;  // r + r* − 8 ∈ [−8, 24]
+  struct Sum {
+    std::vector<double> log_likelihood = std::vector<double>(kScaleSpan * kRatioSpan, 0.0);
+    std::vector<std::size_t> covered = std::vector<std::size_t>(kScaleSpan * kRatioSpan, 0);
+    std::size_t scenes = 0;
+  };
+  Sum committed_, pending_;  // epochs before pending_epoch_, and pending_epoch_ so far
+  std::size_t pending_epoch_ = 0;
+};
+
+}  // namespace stgf
