@@ -56,11 +56,13 @@ void forward_substitute(const Eigen::MatrixXd& factor, Eigen::Matrix<double, Eig
   double* columns[Columns];
   for (int k = 0; k < Columns; ++k) columns[k] = x.col(k).data();
   for (Eigen::Index j = first_nonzero; j < size; ++j) {
-    const double* l = factor.col(j).data();
-    double solved[Columns];
-    for (int k = 0; k < Columns; ++k) solved[k] = columns[k][j] /= l[j];
-    for (Eigen::Index i = j + 1; i < size; ++i) {
-      for (int k = 0; k < Columns; ++k) columns[k][i] -= l[i] * solved[k];
+    const double* __restrict l = factor.col(j).data();
+    // One contiguous update per right-hand side: X's columns and L do not overlap, which the compiler
+    // is told, so that it vectorises over i (each element's arithmetic is the same as element by element).
+    for (int k = 0; k < Columns; ++k) {
+      double* __restrict column = columns[k];
+      const double solved = column[j] /= l[j];
+      for (Eigen::Index i = j + 1; i < size; ++i) column[i] -= l[i] * solved;
     }
   }
 }
@@ -81,7 +83,8 @@ template <int Terms>
 void add_rank_terms(Eigen::MatrixXd& lower, const double* const (&terms)[Terms], const double (&signs)[Terms]) {
   const Eigen::Index size = lower.rows();
   for (Eigen::Index j = 0; j < size; ++j) {
-    double* column = lower.col(j).data();
+    // M's column and the terms do not overlap (the compiler is told, so that it vectorises over i).
+    double* __restrict column = lower.col(j).data();
     double scales[Terms];
     for (int t = 0; t < Terms; ++t) scales[t] = signs[t] * terms[t][j];
     for (Eigen::Index i = j; i < size; ++i) {

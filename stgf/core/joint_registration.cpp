@@ -429,10 +429,12 @@ void JointRegistration::observe_differences(std::span<const Measurement* const> 
   if (prior_.is_zero() || measurements.size() < 2 || prior_scale_.has_enough_evidence()) return;
   // A_j = Σ_k G_kᵀ W_k G_k − Fᵀ S⁻¹ F and b_j = Σ_k G_kᵀ W_k z_k − Fᵀ S⁻¹ y (registration_prior_scale.hpp),
   // block by block: G_k is nonzero on its view's blocks only, which are contiguous in β and disjoint
-  // across views; Fᵀ S⁻¹ F = XᵀX with X = L_S⁻¹ F.
+  // across views; Fᵀ S⁻¹ F = XᵀX with X = L_S⁻¹ F. F = Σ_k W_k G_k is summed per block first, so
+  // that a view with several measurements (a frame on its own clock) adds one segment, not one each:
+  // the products XᵀX cost the square of the segments' number.
   struct Segment {
     Eigen::Index start;
-    BlockColumns weighted;  // W_k G_k, then X on this block
+    BlockColumns weighted;  // Σ_k W_k G_k on this block, then X on it
   };
   std::vector<Segment> segments;
   segments.reserve(measurements.size());
@@ -461,7 +463,13 @@ void JointRegistration::observe_differences(std::span<const Measurement* const> 
     term = Term{view, offset_jacobian(measurement), noise_factor.inverse(), z};
     for (const OffsetBlock& block : view->blocks) {
       const BlockColumns g = term.h * block.basis;
-      segments.push_back(Segment{block.start, term.weight * g});
+      const auto same = std::find_if(segments.begin(), segments.end(),
+                                     [&](const Segment& segment) { return segment.start == block.start; });
+      if (same == segments.end()) {
+        segments.push_back(Segment{block.start, term.weight * g});
+      } else {
+        same->weighted.noalias() += term.weight * g;
+      }
       if (block.start + g.cols() <= estimate.size()) term.corrected.noalias() -= g * estimate.segment(block.start, g.cols());
     }
     s += term.weight;

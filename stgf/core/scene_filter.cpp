@@ -531,15 +531,18 @@ void SceneFilter::process_joint(Event& event) {
     if (!track.empty()) {
       coasting = track.coasts_to(time, predictor_);
       motion = track.motion_to(time, predictor_, coasting ? coasting_scale : scale, constant_velocity);
-      const Gaussian3 state = state_.joint.position(object);
+      if (options_.report_predictions) {
+        // The predicted position: p_i + d, Σ_ii + Q (what position() gives after predict(), without
+        // recomputing it). Not formed when nobody reads it: the marginal costs a substitution with M's factor.
+        const Gaussian3 state = state_.joint.position(object);
+        prediction = TrackPrediction{
+            Gaussian3::from_covariance(state.mean() + motion->displacement, state.covariance() + motion->covariance),
+            state.covariance(), motion->process_noise, motion->interval, track.history().size()};
+      }
       state_.joint.predict(object, motion->displacement, motion->covariance);
       if (options_.adapt_registration_prior && track.has_frame()) {
         track.frame_alignment().follow(motion->displacement, motion->covariance);  // gathered only then
       }
-      // The predicted position: p_i + d, Σ_ii + Q (what position() now gives, without recomputing it).
-      prediction = TrackPrediction{
-          Gaussian3::from_covariance(state.mean() + motion->displacement, state.covariance() + motion->covariance),
-          state.covariance(), motion->process_noise, motion->interval, track.history().size()};
       // Every row's innovation against the prediction, for the gate.
       teaches_process_noise = !track.has_frame() && track.history().size() >= 2 && learns_from(coasting);
       if (gate_.enabled() && gates_against_prediction(track)) {
