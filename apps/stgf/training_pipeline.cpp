@@ -5,6 +5,7 @@
 
 #include <unistd.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
@@ -58,12 +59,31 @@ class WorkingFile {
 
 struct Split {
   std::vector<TrainingGraph> graphs;
+  // The frame period: the median interval of the every-step (stride 1) histories; of several
+  // benchmarks, the shortest of theirs. 0 without any interval.
+  double frame_period = 0.0;
   std::vector<Measurement> measurements;
   // Per row, where its object was: the truth, or (without truth) the fused measurement of the object
   // at the row's time with its covariance.
   std::vector<Vector3d> target_of_row;
   std::vector<Matrix3d> target_covariance_of_row;  // empty for the truth
 };
+
+// The median interval between consecutive history positions of `graphs` (0 without any).
+double median_history_interval(const std::vector<TrainingGraph>& graphs) {
+  std::vector<double> intervals;
+  for (const TrainingGraph& graph : graphs) {
+    for (const ObjectHistory& history : graph.graph.objects) {
+      for (std::size_t k = 1; k < history.times.size(); ++k) {
+        if (history.times[k] > history.times[k - 1]) intervals.push_back(history.times[k] - history.times[k - 1]);
+      }
+    }
+  }
+  if (intervals.empty()) return 0.0;
+  const auto middle = intervals.begin() + static_cast<std::ptrdiff_t>(intervals.size() / 2);
+  std::nth_element(intervals.begin(), middle, intervals.end());
+  return *middle;
+}
 
 // `strides`: the graphs are made from the scenes at each of these fractions of the frame rate.
 // `with_truth`: targets from truth.csv; else from the measurements alone.
@@ -94,6 +114,7 @@ Split read_split(const std::string& folder, HistorySource source, int history_le
     const std::span<const Measurement> rows = stride == 1 ? std::span<const Measurement>(measurements.rows) : strided_rows;
     const std::vector<TrainingGraph> graphs = with_truth ? make_training_graphs(rows, *index, source, history_length)
                                                          : make_measured_training_graphs(rows, source, history_length);
+    if (stride == 1) split.frame_period = median_history_interval(graphs);
     split.graphs.insert(split.graphs.end(), graphs.begin(), graphs.end());
   }
   split.measurements = std::move(measurements.rows);
@@ -111,6 +132,9 @@ Split read_splits(const std::vector<std::string>& benchmarks, const std::string&
     Split one = read_split(benchmarks[k] + split, source, history_length, with_truth, strides);
     for (TrainingGraph& graph : one.graphs) graph.graph.scene = fmt::format("{}/{}", k + 1, graph.graph.scene);
     for (Measurement& row : one.measurements) row.scene = fmt::format("{}/{}", k + 1, row.scene);
+    if (one.frame_period > 0.0 && (all.frame_period == 0.0 || one.frame_period < all.frame_period)) {
+      all.frame_period = one.frame_period;
+    }
     std::move(one.graphs.begin(), one.graphs.end(), std::back_inserter(all.graphs));
     std::move(one.measurements.begin(), one.measurements.end(), std::back_inserter(all.measurements));
     all.target_of_row.insert(all.target_of_row.end(), one.target_of_row.begin(), one.target_of_row.end());
@@ -284,8 +308,13 @@ void train_model(ModelTraining options) {
   if (options.strides.empty()) throw std::invalid_argument("--strides needs at least one stride");
   const int history = options.training.shape.history_length + 1;  // positions = intervals + 1
   const auto start = std::chrono::steady_clock::now();
-  const std::vector<TrainingGraph> train_graphs =
-      read_splits(options.benchmarks, "/train", source, history, with_truth, options.strides).graphs;
+  Split train = read_splits(options.benchmarks, "/train", source, history, with_truth, options.strides);
+  const std::vector<TrainingGraph> train_graphs = std::move(train.graphs);
+  // Φ's history positions are spaced by the fastest benchmark's frame period (MotionNormalisation).
+  if (options.benchmarks.size() > 1 && train.frame_period > 0.0) {
+    options.training.frame_period = train.frame_period;
+    spdlog::info("history positions spaced by the fastest benchmark's frame period, {:.3g} s", train.frame_period);
+  }
   const Split validation = read_splits(options.benchmarks, "/val", source, history, with_truth);
   // The views' registration prior, on the validation split (of every benchmark together).
   const NoiseRatioAxes axes = options.noise_ratio == "per-axis" ? NoiseRatioAxes::kPerAxis : NoiseRatioAxes::kOne;

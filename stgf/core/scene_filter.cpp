@@ -354,6 +354,11 @@ void SceneFilter::close_frames(double time) {
     if (!track.has_frame()) continue;
     const double age = time - track.frame_time();
     if (!(age > kSameStepTolerance && age >= window)) continue;
+    // The history position it makes is the state's, at the frame's last update, which may be its first:
+    // it stays open until that is a window after the last history position too (two views measuring
+    // microseconds apart would otherwise give two history positions that close, and Φ a velocity
+    // from their difference).
+    if (!track.history().empty() && track.state().time - track.history().back().time < window) continue;
     // Jointly, later measurements of other objects may have refined this one's position through the
     // offsets: the history gets what is known of it now.
     if (joint()) track.update(track.state().time, state_.joint.position(key.second));

@@ -86,8 +86,8 @@ class MotionModel final : public MotionPredictor {
   Matrix3d process_noise(double dt) const override;
   int history_positions() const override { return shape().history_length + 1; }
   double typical_speed() const override { return normalisation().speed; }
-  // kHistorySpacingFactor of the training data's typical period s_t.
-  double history_spacing() const override { return kHistorySpacingFactor * normalisation().period; }
+  // kHistorySpacingFactor of the training data's frame period s_f.
+  double history_spacing() const override { return motion_model_history_spacing(normalisation()); }
   double prediction_horizon() const override { return kHorizonFactor * normalisation().longest_interval; }
   double coasting_horizon() const override;        // motion_model_coasting_horizon
   double widest_history_spacing() const override;  // motion_model_widest_history_spacing

@@ -183,9 +183,10 @@ TrainingReport train_motion_model(const std::vector<TrainingGraph>& train, const
   torch::set_num_threads(options.threads > 0 ? options.threads
                                              : static_cast<int>(std::max(1u, std::thread::hardware_concurrency())));
 
-  MotionModel model = options.resume.empty()
-                          ? MotionModel(options.shape, measure_normalisation(train), options.seed)
-                          : MotionModel::load(options.resume);
+  MotionNormalisation normalisation = measure_normalisation(train);
+  if (options.frame_period > 0.0) normalisation.frame_period = options.frame_period;
+  MotionModel model = options.resume.empty() ? MotionModel(options.shape, normalisation, options.seed)
+                                             : MotionModel::load(options.resume);
   MotionModel::Impl& impl = model.impl();
   impl.weights_float16 = options.weights_float16;
   torch::optim::Adam optimizer(impl.network->parameters(), torch::optim::AdamOptions(options.learning_rate));

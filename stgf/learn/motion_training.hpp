@@ -54,6 +54,9 @@ struct MotionTrainingOptions {
   // that Φ learns motion whatever the world frame's heading (the validation graphs stay as given).
   bool rotate = false;
   MotionModelShape shape;
+  // s_f, the frame period of the fastest training benchmark (MotionNormalisation::frame_period; 0: the
+  // training intervals' median s_t, right for one benchmark). Not for a resumed model, which keeps its own.
+  double frame_period = 0.0;
   nlohmann::json metadata = nlohmann::json::object();  // stored in the model file (e.g. the input kind)
 };
 

@@ -86,12 +86,15 @@ std::vector<IntervalNoise> nodes_from(const nlohmann::json& list, double after) 
 nlohmann::json settings_json(const MotionModelSettings& settings) {
   const MotionModelShape& s = settings.shape;
   const MotionNormalisation& n = settings.normalisation;
+  nlohmann::json normalisation = {
+      {"speed", n.speed}, {"period", n.period}, {"length", n.length}, {"longest_interval", n.longest_interval}};
+  // Only where it differs from s_t (several benchmarks): a model of one writes what it wrote before.
+  if (n.shortest_frame_period() != n.period) normalisation["frame_period"] = n.frame_period;
   return {{"shape",
            {{"history_length", s.history_length}, {"embedding", s.embedding}, {"hidden", s.hidden},
             {"attention_hidden", s.attention_hidden}, {"max_fully_connected", s.max_fully_connected},
             {"nearest_neighbours", s.nearest_neighbours}}},
-          {"normalisation",
-           {{"speed", n.speed}, {"period", n.period}, {"length", n.length}, {"longest_interval", n.longest_interval}}},
+          {"normalisation", normalisation},
           {"process_noise", process_noise_json(settings)},
           {"metadata", settings.metadata}};
 }
@@ -111,9 +114,15 @@ MotionModelSettings settings_from_json(const nlohmann::json& config) {
     throw std::invalid_argument("shape has a size below 1");
   }
   const nlohmann::json& n = config.at("normalisation");
-  settings.normalisation = {n.at("speed").get<double>(), n.at("period").get<double>(), n.at("length").get<double>(), 0.0};
+  settings.normalisation = {n.at("speed").get<double>(), n.at("period").get<double>(), n.at("length").get<double>(), 0.0, 0.0};
   // Files written before the horizon was stored: three steps, as `stgf train --strides 1,2,3` trains.
   settings.normalisation.longest_interval = n.value("longest_interval", 3.0 * settings.normalisation.period);
+  // Files written before the frame period was stored: s_t, the history spacing they were calibrated with.
+  settings.normalisation.frame_period = n.value("frame_period", settings.normalisation.period);
+  const MotionNormalisation& scales = settings.normalisation;
+  for (const double scale : {scales.speed, scales.period, scales.length, scales.longest_interval, scales.frame_period}) {
+    if (!(scale > 0.0) || !std::isfinite(scale)) throw std::invalid_argument("normalisation has a scale that is not positive");
+  }
   const nlohmann::json& process_noise = config.at("process_noise");
   settings.process_noise_reference = matrix_from(process_noise.at("reference"));
   settings.process_noise_period = process_noise.at("period").get<double>();

@@ -38,6 +38,13 @@ struct MotionNormalisation {
   double period = 0.1;            // s_t (s)
   double length = 5.0;            // s_p (m)
   double longest_interval = 0.3;  // the 99th percentile of the training intervals (s)
+  // s_f: the frame period of the fastest training data (s) — of several benchmarks, the shortest of
+  // their frame periods (each the median interval of its every-step histories); of one, s_t. A model
+  // trained on data at 10, 7 and 2.5 Hz has s_t at whichever rate gave the most intervals, but Φ
+  // learnt to read histories spaced 0.1 s apart: its history positions are spaced by s_f (below).
+  // 0: s_t (one benchmark's).
+  double frame_period = 0.0;
+  double shortest_frame_period() const { return frame_period > 0.0 ? frame_period : period; }
 };
 
 // Φ predicts across up to this many times the longest interval it trained on (the rate
@@ -47,11 +54,14 @@ inline constexpr double kHorizonFactor = 2.0;
 // Φ for a track whose history positions are further apart than this many times the longest interval
 // Φ trained on (a little more than it, for jitter): Φ never saw such histories.
 inline constexpr double kCoastingStartFactor = 1.25;
-// Φ's history positions are at least this fraction of its training period apart (motion_predictor.hpp):
-// measurements on asynchronous clocks a few milliseconds apart refine a track's estimate, and a new
-// history position starts once about a training period has passed (0.9, not 1, so that jitter in a
-// stream at the training rate does not skip every other frame).
+// Φ's history positions are at least this fraction of its training data's frame period s_f apart
+// (motion_predictor.hpp): measurements on asynchronous clocks a few milliseconds apart refine a track's
+// estimate, and a new history position starts once about a training frame period has passed (0.9, not
+// 1, so that jitter in a stream at the training rate does not skip every other frame).
 inline constexpr double kHistorySpacingFactor = 0.9;
+inline double motion_model_history_spacing(const MotionNormalisation& normalisation) {
+  return kHistorySpacingFactor * normalisation.shortest_frame_period();
+}
 
 // The model file's marker and newest version (1: the first format; 2 adds the checksum and keys
 // Adam's state by parameter index; version 1 files are still read, without the check).
@@ -129,7 +139,7 @@ class TrainedMotionModel final : public MotionPredictor {
   Matrix3d process_noise(double dt) const override;  // Q_ref (dt / Δt_ref)²
   int history_positions() const override { return settings_.shape.history_length + 1; }
   double typical_speed() const override { return settings_.normalisation.speed; }
-  double history_spacing() const override { return kHistorySpacingFactor * settings_.normalisation.period; }
+  double history_spacing() const override { return motion_model_history_spacing(settings_.normalisation); }
   double prediction_horizon() const override { return kHorizonFactor * settings_.normalisation.longest_interval; }
   double widest_history_spacing() const override {
     return motion_model_widest_history_spacing(settings_.normalisation, settings_.process_noise_period,

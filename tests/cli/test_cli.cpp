@@ -734,6 +734,10 @@ TEST_F(Cli, TrainsOneModelOnSeveralBenchmarks) {
   ASSERT_EQ(both.status, 0) << both.err;
   EXPECT_EQ(graphs(both.err).first, graphs(a.err).first + graphs(b.err).first);
   EXPECT_EQ(graphs(both.err).second, graphs(a.err).second + graphs(b.err).second);
+  // Φ's history positions are spaced by the faster benchmark's frame period (a: 10 Hz, b: 5 Hz), not
+  // by the median interval of the mixture; one benchmark's model keeps its own.
+  EXPECT_THAT(both.err, HasSubstr("history positions spaced by the fastest benchmark's frame period, 0.1 s"));
+  EXPECT_THAT(b.err, Not(HasSubstr("history positions spaced")));
   const std::string model = slurp(directory_ / "ab.pt");
   EXPECT_THAT(model, HasSubstr("\"benchmark\":[\"a\",\"b\"]"));
   EXPECT_THAT(model, HasSubstr("\"calibrated_on\":\"a/val,b/val\""));

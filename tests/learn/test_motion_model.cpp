@@ -119,10 +119,11 @@ TEST(MotionModel, GradientsReachEveryParameter) {
   }
 }
 
-// A small model with a stated Q (kQ at 0.4 s), saved to `path`.
+// A small model with a stated Q (kQ at 0.4 s), saved to `path`: trained (so to say) on data whose
+// intervals have a median of 0.4 s and whose fastest benchmark runs at 0.25 s.
 const Matrix3d kQ = (Matrix3d() << 0.02, 0.001, 0, 0.001, 0.03, 0, 0, 0, 0.01).finished();
 MotionModel saved_model(std::uint64_t seed, const std::string& path) {
-  MotionModel model(tiny_shape(), MotionNormalisation{1.3, 0.4, 5.0, 1.2}, seed);
+  MotionModel model(tiny_shape(), MotionNormalisation{1.3, 0.4, 5.0, 1.2, 0.25}, seed);
   model.set_process_noise(kQ, 0.4);
   model.save(path, {{"input", "fused"}});
   return model;
@@ -146,6 +147,8 @@ TEST(MotionModel, SaveThenLoadGivesIdenticalPredictions) {
   EXPECT_EQ(loaded.normalisation().speed, 1.3);
   EXPECT_EQ(loaded.normalisation().longest_interval, 1.2);
   EXPECT_EQ(loaded.prediction_horizon(), kHorizonFactor * 1.2);
+  EXPECT_EQ(loaded.normalisation().frame_period, 0.25);
+  EXPECT_EQ(loaded.history_spacing(), kHistorySpacingFactor * 0.25);  // the fastest data's, not s_t's
   EXPECT_EQ(loaded.shape().hidden, 8);
 }
 
@@ -172,6 +175,7 @@ TEST(TrainedMotionModel, IsTheSavedModelBitForBit) {
   EXPECT_EQ(trained.process_noise(0.8), loaded.process_noise(0.8));
   EXPECT_EQ(trained.prediction_horizon(), loaded.prediction_horizon());
   EXPECT_EQ(trained.history_spacing(), loaded.history_spacing());
+  EXPECT_EQ(trained.history_spacing(), kHistorySpacingFactor * 0.25);
   EXPECT_EQ(trained.history_positions(), loaded.history_positions());
   EXPECT_EQ(trained.metadata(), loaded.metadata());
 }

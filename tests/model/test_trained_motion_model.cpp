@@ -85,6 +85,7 @@ TEST(TrainedMotionModel, SettingsKeepQAtLongerIntervalsAndOnlyWhenThereAreAny) {
   const nlohmann::json before = settings_json(settings);
   EXPECT_FALSE(before.at("process_noise").contains("intervals"));
   EXPECT_FALSE(before.at("process_noise").contains("coasting"));
+  EXPECT_FALSE(before.at("normalisation").contains("frame_period"));  // s_t's: one benchmark's
   const double period = settings.process_noise_period;
   settings.process_noise_intervals = {{2.0 * period, 0.02 * Matrix3d::Identity()}};
   settings.coasting_process_noise = {{4.0 * period, 0.05 * Matrix3d::Identity()},
@@ -98,6 +99,17 @@ TEST(TrainedMotionModel, SettingsKeepQAtLongerIntervalsAndOnlyWhenThereAreAny) {
   nlohmann::json config = settings_json(settings);
   config["process_noise"]["coasting"][1]["interval"] = 3.0 * period;
   EXPECT_THROW(settings_from_json(config), std::invalid_argument);
+  // The fastest training data's frame period, where it differs from s_t, goes in and comes back; a
+  // scale that is not positive is refused.
+  settings.normalisation.frame_period = 0.5 * settings.normalisation.period;
+  const MotionModelSettings faster = settings_from_json(nlohmann::json::parse(settings_json(settings).dump()));
+  EXPECT_EQ(faster.normalisation.frame_period, 0.5 * settings.normalisation.period);
+  EXPECT_EQ(motion_model_history_spacing(faster.normalisation), kHistorySpacingFactor * 0.5 * settings.normalisation.period);
+  for (const char* scale : {"frame_period", "period", "speed"}) {
+    nlohmann::json bad = settings_json(settings);
+    bad["normalisation"][scale] = 0.0;
+    EXPECT_THROW(settings_from_json(bad), std::invalid_argument) << scale;
+  }
 }
 
 TEST(TrainedMotionModel, ForecastsEachGraphOnItsOwn) {
