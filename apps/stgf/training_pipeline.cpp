@@ -311,7 +311,8 @@ void train_model(ModelTraining options) {
   Split train = read_splits(options.benchmarks, "/train", source, history, with_truth, options.strides);
   const std::vector<TrainingGraph> train_graphs = std::move(train.graphs);
   // Φ's history positions are spaced by the fastest benchmark's frame period (MotionNormalisation).
-  if (options.benchmarks.size() > 1 && train.frame_period > 0.0) {
+  // (A resumed model keeps its own.)
+  if (options.benchmarks.size() > 1 && train.frame_period > 0.0 && options.training.resume.empty()) {
     options.training.frame_period = train.frame_period;
     spdlog::info("history positions spaced by the fastest benchmark's frame period, {:.3g} s", train.frame_period);
   }

@@ -16,6 +16,7 @@
 #include "stgf/methods/filter_runner.hpp"
 #include "stgf/methods/run_method.hpp"
 #include "stgf/methods/spatiotemporal_graph_filter.hpp"
+#include "support/test_predictors.hpp"
 
 namespace stgf {
 namespace {
@@ -211,6 +212,39 @@ TEST(AsynchronousFilter, RowOrderWithinATimeDoesNotMatter) {
     EXPECT_EQ(backward.estimates[i].mean(), forward.estimates[order[i]].mean());
     EXPECT_EQ(backward.estimates[i].covariance(), forward.estimates[order[i]].covariance());
   }
+}
+
+// Φ reads velocities over the intervals it trained on: a track's history positions are at least the
+// predictor's history spacing apart, even when two views measure the object microseconds apart just
+// as a frame's window ends (the later one closes the frame on the earlier one's state, and opens the
+// next frame, whose state would otherwise become a history position microseconds after it).
+TEST(AsynchronousFilter, HistoryPositionsAreAHistorySpacingApart) {
+  // Records the intervals between the history positions of every forecast it is asked for.
+  class RecordingPredictor final : public testing::ForwardingPredictor {
+   public:
+    RecordingPredictor() : ForwardingPredictor(0.5, 1.0, 2.0, /*history_spacing=*/0.09) {}
+    std::vector<std::vector<MotionForecast>> forecast(std::span<const MotionGraph> graphs) const override {
+      for (const MotionGraph& graph : graphs) {
+        for (const ObjectHistory& history : graph.objects) {
+          for (std::size_t k = 1; k < history.times.size(); ++k) spacings.push_back(history.times[k] - history.times[k - 1]);
+        }
+      }
+      return ForwardingPredictor::forecast(graphs);
+    }
+    mutable std::vector<double> spacings;
+  } predictor;
+  // Views a, b and c measure "o" on their own clocks; at 0.0899 and 0.0901, b and c straddle the end
+  // of the frame that a opened at 0.
+  std::vector<Measurement> rows;
+  const Matrix3d r = 0.01 * Matrix3d::Identity();
+  for (const auto& [view, time] : std::vector<std::pair<std::string, double>>{
+           {"a", 0.0}, {"b", 0.0899}, {"c", 0.0901}, {"a", 0.2}, {"b", 0.3}, {"c", 0.4}, {"a", 0.5}, {"b", 0.6}}) {
+    rows.push_back(Measurement{"s", time, view, "o", Gaussian3::from_covariance(truth_at("o", time), r), std::nullopt});
+  }
+  const FilterRun run = run_spatiotemporal_graph_filter(predictor, FilterOptions{}, rows);
+  ASSERT_FALSE(predictor.spacings.empty());
+  for (const double spacing : predictor.spacings) EXPECT_GE(spacing, predictor.history_spacing());
+  for (const Gaussian3& estimate : run.estimates) EXPECT_TRUE(estimate.mean().allFinite());
 }
 
 // The runner with an arrival column: the same as the streaming filter fed in arrival order.

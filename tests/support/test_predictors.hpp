@@ -10,10 +10,11 @@
 
 namespace stgf::testing {
 
-// Forwards everything to ConstantVelocityPredictor(q, speed, horizon).
+// Forwards everything to ConstantVelocityPredictor(q, speed, horizon, history_spacing).
 class ForwardingPredictor : public MotionPredictor {
  public:
-  ForwardingPredictor(double q, double speed, double horizon) : inner_(q, speed, horizon) {}
+  ForwardingPredictor(double q, double speed, double horizon, double history_spacing = 0.0)
+      : inner_(q, speed, horizon, history_spacing) {}
   std::vector<std::vector<MotionForecast>> forecast(std::span<const MotionGraph> graphs) const override {
     return inner_.forecast(graphs);
   }
