@@ -89,7 +89,7 @@ nlohmann::json settings_json(const MotionModelSettings& settings) {
   nlohmann::json normalisation = {
       {"speed", n.speed}, {"period", n.period}, {"length", n.length}, {"longest_interval", n.longest_interval}};
   // Only where it differs from s_t (several benchmarks): a model of one writes what it wrote before.
-  if (n.shortest_frame_period() != n.period) normalisation["frame_period"] = n.frame_period;
+  if (n.frame_period_or_period() != n.period) normalisation["frame_period"] = n.frame_period;
   return {{"shape",
            {{"history_length", s.history_length}, {"embedding", s.embedding}, {"hidden", s.hidden},
             {"attention_hidden", s.attention_hidden}, {"max_fully_connected", s.max_fully_connected},

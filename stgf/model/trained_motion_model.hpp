@@ -44,7 +44,7 @@ struct MotionNormalisation {
   // learnt to read histories spaced 0.1 s apart: its history positions are spaced by s_f (below).
   // 0: s_t (one benchmark's).
   double frame_period = 0.0;
-  double shortest_frame_period() const { return frame_period > 0.0 ? frame_period : period; }
+  double frame_period_or_period() const { return frame_period > 0.0 ? frame_period : period; }  // s_f
 };
 
 // Φ predicts across up to this many times the longest interval it trained on (the rate
@@ -60,7 +60,7 @@ inline constexpr double kCoastingStartFactor = 1.25;
 // 1, so that jitter in a stream at the training rate does not skip every other frame).
 inline constexpr double kHistorySpacingFactor = 0.9;
 inline double motion_model_history_spacing(const MotionNormalisation& normalisation) {
-  return kHistorySpacingFactor * normalisation.shortest_frame_period();
+  return kHistorySpacingFactor * normalisation.frame_period_or_period();
 }
 
 // The model file's marker and newest version (1: the first format; 2 adds the checksum and keys
