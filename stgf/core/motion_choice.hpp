@@ -36,8 +36,9 @@ class MotionChoice {
   // ln 100: the log Bayes factor at which the scene switches.
   static constexpr double kSwitchEvidence = 4.605170185988091;
 
-  explicit MotionChoice(MotionFallback policy = MotionFallback::kOff)
-      : policy_(policy), constant_velocity_(policy == MotionFallback::kAlways) {}
+  // `fallback_scale`: λ_cv's start (its prior, and what other scenes said of it: process_noise_pool.hpp).
+  explicit MotionChoice(MotionFallback policy = MotionFallback::kOff, ProcessNoiseScale fallback_scale = {})
+      : policy_(policy), constant_velocity_(policy == MotionFallback::kAlways), fallback_scale_(fallback_scale) {}
 
   // Whether the tracks follow constant velocity now (always with kAlways, never with kOff).
   bool constant_velocity() const { return constant_velocity_; }

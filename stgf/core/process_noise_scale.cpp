@@ -37,6 +37,34 @@ ProcessNoiseScale::ProcessNoiseScale() {
   }
 }
 
+ProcessNoiseScale::ProcessNoiseScale(const Grid& evidence) : ProcessNoiseScale() {
+  for (int a = 0; a < 3; ++a) {
+    for (int point = 0; point < kGridPoints; ++point) {
+      if (!std::isfinite(evidence[a][point])) throw std::invalid_argument("ProcessNoiseScale: evidence must be finite");
+      log_posterior_[a][point] += evidence[a][point];
+    }
+  }
+  choose_scales();
+}
+
+void ProcessNoiseScale::choose_scales() {
+  for (int a = 0; a < 3; ++a) {
+    int best = 0;
+    for (int point = 1; point < kGridPoints; ++point) {
+      if (log_posterior_[a][point] > log_posterior_[a][best]) best = point;
+    }
+    scales_[a] = grid_scale(best);
+  }
+}
+
+ProcessNoiseScale::Grid ProcessNoiseScale::evidence_since(const ProcessNoiseScale& start) const {
+  Grid evidence{};
+  for (int a = 0; a < 3; ++a) {
+    for (int point = 0; point < kGridPoints; ++point) evidence[a][point] = log_posterior_[a][point] - start.log_posterior_[a][point];
+  }
+  return evidence;
+}
+
 void ProcessNoiseScale::add(const Vector3d& innovation, const Matrix3d& known_covariance,
                             const Matrix3d& process_noise, double weight) {
   if (!(weight > 0.0) || !innovation.allFinite()) {

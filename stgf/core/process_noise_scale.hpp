@@ -18,6 +18,10 @@
 // the filter's errors are correlated (an offset shared by the views is in the prediction and in the
 // measurement alike and cancels in ν). On the validation splits, letting λ fall below 1 (in a first,
 // single-λ version) raised NEES from 3.4 to 4.0 (mpl) and from 3.7 to 4.6 (cad), and DE with it.
+//
+// Learned across scenes (process_noise_pool.hpp): a scene may start from the log likelihoods that
+// other scenes' innovations gave each grid point, added to the prior; what its own innovations add
+// is evidence_since(the scale it started as).
 
 #include <array>
 
@@ -29,7 +33,12 @@ class ProcessNoiseScale {
  public:
   static constexpr int kGridPoints = 41;
 
+  // log p(innovations | λ_a) per axis a and grid point (log₂ λ = 0, 0.5, …, 20), up to a constant.
+  using Grid = std::array<std::array<double, kGridPoints>, 3>;
+
   ProcessNoiseScale();
+  // The prior plus what other innovations said (`evidence`: log likelihoods, e.g. other scenes').
+  explicit ProcessNoiseScale(const Grid& evidence);
 
   // Adds one innovation with weight `weight` (> 0; e.g. 1 / the number of correlated innovations).
   void add(const Vector3d& innovation, const Matrix3d& known_covariance, const Matrix3d& process_noise,
@@ -40,9 +49,13 @@ class ProcessNoiseScale {
   // D Q D.
   Matrix3d scaled(const Matrix3d& process_noise) const;
   std::size_t innovations() const { return innovations_; }
+  // The log likelihoods added since this scale was `start` (a copy of an earlier state of it).
+  Grid evidence_since(const ProcessNoiseScale& start) const;
 
  private:
-  std::array<std::array<double, kGridPoints>, 3> log_posterior_{};
+  void choose_scales();  // λ̂ per axis: its grid point of highest posterior
+
+  Grid log_posterior_{};
   Vector3d scales_ = Vector3d::Ones();
   std::size_t innovations_ = 0;
 };

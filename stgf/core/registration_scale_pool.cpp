@@ -5,6 +5,8 @@
 #include <limits>
 #include <stdexcept>
 
+#include "stgf/core/scene_epochs.hpp"
+
 namespace stgf {
 
 RegistrationPriorScales RegistrationScalePool::Point::scales() const {
@@ -16,7 +18,7 @@ void RegistrationScalePool::add(std::size_t scene_index, std::span<const double>
   if (grid.size() != static_cast<std::size_t>(kRatioIndices * kScaleIndices)) {
     throw std::invalid_argument("RegistrationScalePool::add: a grid of 17 × 81 log likelihoods");
   }
-  const std::size_t epoch = scene_index / kSceneEpoch;
+  const std::size_t epoch = scene_epoch(scene_index);
   if (epoch < pending_epoch_) throw std::logic_error("RegistrationScalePool::add: scenes out of list order");
   if (epoch > pending_epoch_) {
     for (std::size_t j = 0; j < pending_.log_likelihood.size(); ++j) {
@@ -41,10 +43,10 @@ void RegistrationScalePool::add(std::size_t scene_index, std::span<const double>
 }
 
 std::optional<RegistrationScalePool::Point> RegistrationScalePool::estimate_for(std::size_t scene_index) const {
-  const std::size_t epoch = scene_index / kSceneEpoch;
+  const std::size_t epoch = scene_epoch(scene_index);
   const bool with_pending = pending_epoch_ < epoch;  // the pending epoch is complete once a later one runs
   const std::size_t scenes = committed_.scenes + (with_pending ? pending_.scenes : 0);
-  if (scenes == 0) return std::nullopt;
+  if (scenes < kFewestScenes) return std::nullopt;
   std::optional<Point> best;
   double best_value = -std::numeric_limits<double>::infinity();
   // Within the grid's own range: κ_t in [2^-10, 2^10], ρ in [2^-8, 2^8].

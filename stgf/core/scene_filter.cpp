@@ -87,7 +87,18 @@ int restart_after(const ObjectTrack& track) {
   return track.history().size() >= 2 ? kGatedEventsBeforeRestart : 1;
 }
 
+// One of Q's scales as a scene starts it: the prior, plus what other scenes said of it.
+ProcessNoiseScale start_scale(const FilterOptions& options, ProcessNoiseScale::Grid ProcessNoiseEvidence::*scale) {
+  return options.process_noise_start ? ProcessNoiseScale((*options.process_noise_start).*scale) : ProcessNoiseScale();
+}
+
 }  // namespace
+
+ProcessNoiseEvidence SceneFilter::process_noise_evidence() const {
+  return {.followed = state_.process_noise_scale.evidence_since(start_scale(options_, &ProcessNoiseEvidence::followed)),
+          .fallback = state_.motion_choice.fallback_scale().evidence_since(start_scale(options_, &ProcessNoiseEvidence::fallback)),
+          .coasting = state_.coasting_scale.evidence_since(start_scale(options_, &ProcessNoiseEvidence::coasting))};
+}
 
 SceneFilter::SceneFilter(const MotionPredictor& predictor, const FilterOptions& options)
     : predictor_(predictor),
@@ -96,9 +107,9 @@ SceneFilter::SceneFilter(const MotionPredictor& predictor, const FilterOptions& 
       state_{.tracks = {},
              .registration = ViewRegistration(options.registration),
              .joint = JointRegistration(options.registration),
-             .process_noise_scale = {},
-             .coasting_scale = {},
-             .motion_choice = MotionChoice(options.motion_fallback),
+             .process_noise_scale = start_scale(options, &ProcessNoiseEvidence::followed),
+             .coasting_scale = start_scale(options, &ProcessNoiseEvidence::coasting),
+             .motion_choice = MotionChoice(options.motion_fallback, start_scale(options, &ProcessNoiseEvidence::fallback)),
              .view_noise = {},
              .last_time = {},
              .frame_interval = std::numeric_limits<double>::infinity(),

@@ -95,6 +95,7 @@
 #include "stgf/core/motion_choice.hpp"
 #include "stgf/core/name_index.hpp"
 #include "stgf/core/object_track.hpp"
+#include "stgf/core/process_noise_pool.hpp"
 #include "stgf/core/process_noise_scale.hpp"
 #include "stgf/core/records.hpp"
 #include "stgf/core/view_noise_scales.hpp"
@@ -117,6 +118,9 @@ struct FilterOptions {
   // With adapt_registration_prior: gather the disagreements' evidence, but keep the prior as given
   // (its scales come from other scenes: registration_scale_pool.hpp).
   bool hold_registration_prior_scale = false;
+  // What other scenes' innovations said of Q's scales λ: this scene's start (process_noise_pool.hpp;
+  // none: the prior alone).
+  std::shared_ptr<const ProcessNoiseEvidence> process_noise_start;
   TrackMode tracks = TrackMode::kPerObject;
   double lag_window = 1.0;                  // s: how late a measurement may come and still count
   // Each Result carries what its track predicted (false: none, for a caller that does not read
@@ -199,6 +203,8 @@ class SceneFilter {
   std::vector<double> registration_likelihood_grid() const {
     return state_.joint.prior_scale_evidence() > 0.0 ? state_.joint.prior_scale_log_likelihood_grid() : std::vector<double>{};
   }
+  // What the scene's innovations said of Q's scales, beyond options' process_noise_start.
+  ProcessNoiseEvidence process_noise_evidence() const;
   // The latest event time processed (−∞ before any).
   double latest_time() const { return latest_time_; }
 

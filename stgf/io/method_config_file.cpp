@@ -178,6 +178,9 @@ void read_ours(const std::string& path, const YAML::Node& node, OursSettings& se
     } else if (key == "registration_prior_scale") {
       settings.registration_scale_across_scenes =
           one_of(path, name, entry.second, {"per-scene", "across-scenes"}) == "across-scenes";
+    } else if (key == "process_noise_scale") {
+      settings.process_noise_scale_across_scenes =
+          one_of(path, name, entry.second, {"per-scene", "across-scenes"}) == "across-scenes";
     } else if (key == "registration_range_scale_sigma") {
       settings.range_scale_sigma = non_negative_number(path, name, entry.second);
     } else if (key == "tracks") {

@@ -6,6 +6,7 @@
 #include <memory>
 #include <stdexcept>
 
+#include "stgf/core/scene_epochs.hpp"
 #include "stgf/core/steps.hpp"
 
 namespace stgf {
@@ -61,11 +62,11 @@ void collect(SceneFilter& filter, std::vector<SceneFilter::Result>& results, Est
   }
 }
 
-// The scales the pool gave the block, and where its first scene is in the whole run.
+// What the pools gave the block, and where its first scene is in the whole run.
 struct PooledScales {
-  RegistrationScalePool* pool = nullptr;
+  ScenePools pools;
   std::size_t first_scene = 0;
-  std::optional<RegistrationScalePool::Point> applied;  // none: each scene learns its own
+  std::optional<RegistrationScalePool::Point> applied;  // none: each scene learns its own registration scales
 };
 
 void run_block(const MotionPredictor& predictor, const FilterOptions& options, std::span<const Measurement> measurements,
@@ -120,9 +121,14 @@ void run_block(const MotionPredictor& predictor, const FilterOptions& options, s
   }
   for (std::size_t s = 0; s < block.size(); ++s) {
     const SceneRun& scene = block[s];
-    if (pooled.pool != nullptr) {
+    if (pooled.pools.registration != nullptr) {
       const std::vector<double> grid = scene.filter->registration_likelihood_grid();
-      if (!grid.empty()) pooled.pool->add(pooled.first_scene + s, grid, pooled.applied.value_or(RegistrationScalePool::Point{}));
+      if (!grid.empty()) {
+        pooled.pools.registration->add(pooled.first_scene + s, grid, pooled.applied.value_or(RegistrationScalePool::Point{}));
+      }
+    }
+    if (pooled.pools.process_noise != nullptr) {
+      pooled.pools.process_noise->add(pooled.first_scene + s, scene.filter->process_noise_evidence());
     }
     run.restarted_tracks += scene.filter->restarted_tracks();
     run.coasting_predictions += scene.filter->coasting_predictions();
@@ -148,7 +154,7 @@ void run_block(const MotionPredictor& predictor, const FilterOptions& options, s
 
 FilterRun run_spatiotemporal_graph_filter(const MotionPredictor& predictor, const FilterOptions& options,
                                           std::span<const Measurement> measurements, bool keep_predictions,
-                                          RegistrationScalePool* pool, std::size_t first_scene) {
+                                          ScenePools pools, std::size_t first_scene) {
   const auto with_arrival = std::count_if(measurements.begin(), measurements.end(),
                                           [](const Measurement& measurement) { return measurement.arrival.has_value(); });
   if (with_arrival != 0 && static_cast<std::size_t>(with_arrival) != measurements.size()) {
@@ -169,18 +175,27 @@ FilterRun run_spatiotemporal_graph_filter(const MotionPredictor& predictor, cons
   Estimated estimated(measurements.size(), false);
   if (keep_predictions) run.predictions.resize(measurements.size());
   run.scenes = scenes.size();
-  const bool pooling = pool != nullptr && scene_options.adapt_registration_prior && !scene_options.registration.is_zero() &&
-                       scene_options.tracks == TrackMode::kPerObject;
+  if (!(scene_options.adapt_registration_prior && !scene_options.registration.is_zero() &&
+        scene_options.tracks == TrackMode::kPerObject)) {
+    pools.registration = nullptr;
+  }
+  if (!scene_options.adapt_process_noise) pools.process_noise = nullptr;  // λ = 1
   for (std::size_t first = 0; first < scenes.size();) {
     std::size_t count = std::min(kScenesPerFilterBlock, scenes.size() - first);
-    PooledScales pooled;
+    const std::size_t global = first_scene + first;
+    PooledScales pooled{pools, global, std::nullopt};
     FilterOptions block_options = scene_options;
-    if (pooling) {
-      // A block within one epoch of the pool: its scenes share the pool's estimate.
-      const std::size_t global = first_scene + first;
-      const std::size_t epoch_end = (global / RegistrationScalePool::kSceneEpoch + 1) * RegistrationScalePool::kSceneEpoch;
-      count = std::min(count, epoch_end - global);
-      pooled = PooledScales{pool, global, pool->estimate_for(global)};
+    if (pools.registration != nullptr || pools.process_noise != nullptr) {
+      // A block within one epoch of the pools: its scenes share their start.
+      count = std::min(count, scene_epoch_end(global) - global);
+    }
+    if (pools.process_noise != nullptr) {
+      if (auto start = pools.process_noise->evidence_for(global)) {
+        block_options.process_noise_start = std::make_shared<const ProcessNoiseEvidence>(std::move(*start));
+      }
+    }
+    if (pools.registration != nullptr) {
+      pooled.applied = pools.registration->estimate_for(global);
       if (pooled.applied) {
         const RegistrationPriorScales scales = pooled.applied->scales();
         RegistrationPrior& prior = block_options.registration;

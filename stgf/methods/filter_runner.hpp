@@ -25,6 +25,7 @@
 #include <span>
 #include <vector>
 
+#include "stgf/core/process_noise_pool.hpp"
 #include "stgf/core/registration_scale_pool.hpp"
 #include "stgf/core/scene_filter.hpp"
 
@@ -54,13 +55,21 @@ struct FilterRun {
   std::size_t scenes = 0;              // in the list
 };
 
+// What the scenes of a run learn together, in list order (`first_scene` of run_spatiotemporal_graph_filter
+// is the place of the list's first scene in the whole run); null: each scene learns alone.
+struct ScenePools {
+  // The registration prior's scales (registration_scale_pool.hpp): each scene runs with the prior
+  // scaled by the pool's estimate for its place in the list, held there, and adds its evidence; scenes
+  // of the first epoch learn their own scales as without it.
+  RegistrationScalePool* registration = nullptr;
+  // Q's scales (process_noise_pool.hpp): each scene starts them from the pool's evidence for its place
+  // in the list, learns on from its own innovations, and adds what they said.
+  ProcessNoisePool* process_noise = nullptr;
+};
+
 // Throws std::invalid_argument when some rows have an arrival time and others not.
-// `pool`: the registration prior's scales learned across scenes (registration_scale_pool.hpp): each
-// scene runs with the prior scaled by the pool's estimate for its place in the list (`first_scene` is
-// the place of the list's first scene in the whole run), held there, and adds its evidence; scenes of
-// the first epoch learn their own scales as without it. None: each scene learns its own.
 FilterRun run_spatiotemporal_graph_filter(const MotionPredictor& predictor, const FilterOptions& options,
                                           std::span<const Measurement> measurements, bool keep_predictions = false,
-                                          RegistrationScalePool* pool = nullptr, std::size_t first_scene = 0);
+                                          ScenePools pools = {}, std::size_t first_scene = 0);
 
 }  // namespace stgf

@@ -86,8 +86,10 @@ std::vector<Gaussian3> NamedMethodRun::add(std::span<const Measurement> rows) {
   MethodRunReport part;
   const FilterOptions options = filter_options_for(config_.ours, model_->metadata(), model_path_, &part.registration_missing);
   const bool prediction_only = method_ == "ours-l";
-  RegistrationScalePool* pool = config_.ours.registration_scale_across_scenes ? &registration_scales_ : nullptr;
-  FilterRun run = run_spatiotemporal_graph_filter(*model_, options, rows, /*keep_predictions=*/prediction_only, pool, scenes_);
+  const ScenePools pools{
+      .registration = config_.ours.registration_scale_across_scenes ? &registration_scales_ : nullptr,
+      .process_noise = config_.ours.process_noise_scale_across_scenes ? &process_noise_scales_ : nullptr};
+  FilterRun run = run_spatiotemporal_graph_filter(*model_, options, rows, /*keep_predictions=*/prediction_only, pools, scenes_);
   scenes_ += run.scenes;
   part.restarted_tracks = run.restarted_tracks;
   part.coasting_predictions = run.coasting_predictions;

@@ -11,6 +11,7 @@
 #include <nlohmann/json.hpp>
 
 #include "stgf/core/records.hpp"
+#include "stgf/core/process_noise_pool.hpp"
 #include "stgf/core/registration_scale_pool.hpp"
 #include "stgf/core/view_noise_scales.hpp"
 #include "stgf/core/scene_filter.hpp"
@@ -85,9 +86,11 @@ class NamedMethodRun {
   std::string model_path_;
   std::unique_ptr<SingleViewPredictionStream> single_view_;  // sttp
   MethodRunReport report_;
-  // ours: the registration prior's scales across the run's scenes (OursSettings::
-  // registration_scale_across_scenes), and how many scenes came before the next part.
+  // ours: the registration prior's and Q's scales across the run's scenes (OursSettings::
+  // registration_scale_across_scenes, process_noise_scale_across_scenes), and how many scenes came
+  // before the next part.
   RegistrationScalePool registration_scales_;
+  ProcessNoisePool process_noise_scales_;
   std::size_t scenes_ = 0;
 };
 

@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: Apache-2.0
 #include "stgf/core/process_noise_scale.hpp"
 
+#include <cmath>
+#include <limits>
 #include <random>
 #include <stdexcept>
 
@@ -85,6 +87,46 @@ TEST(ProcessNoiseScale, RejectsBadInput) {
   ProcessNoiseScale scale;
   EXPECT_THROW(scale.add(Vector3d::Zero(), Matrix3d::Identity(), Matrix3d::Identity(), 0.0), std::invalid_argument);
   EXPECT_THROW(scale.add(Vector3d(std::nan(""), 0, 0), Matrix3d::Identity(), Matrix3d::Identity()), std::invalid_argument);
+}
+
+// Many short scenes of a motion with Q 16 times the calibrated one: each alone has too few innovations
+// to reach λ = 16; started from the others' evidence (process_noise_pool.hpp), a scene is there at once,
+// and what it adds is its own innovations' evidence, the same whatever it started from.
+TEST(ProcessNoiseScale, StartsFromOtherScenesEvidence) {
+  Matrix3d known = Matrix3d::Identity() * 0.04;
+  Matrix3d process = Matrix3d::Identity() * 0.02;
+  const Matrix3d factor = Matrix3d(known + 16.0 * process).llt().matrixL();
+  std::mt19937_64 random(3);
+  std::normal_distribution<double> normal;
+  ProcessNoiseScale::Grid pooled{};
+  double alone_error = 0.0;  // mean |log₂ λ̂ − log₂ 16| of the scenes alone, per axis
+  for (int scene = 0; scene < 40; ++scene) {
+    const ProcessNoiseScale fresh;
+    ProcessNoiseScale from_pool(pooled);
+    const ProcessNoiseScale pool_start = from_pool;
+    ProcessNoiseScale alone;
+    for (int k = 0; k < 3; ++k) {
+      const Vector3d innovation = factor * Vector3d(normal(random), normal(random), normal(random));
+      alone.add(innovation, known, process);
+      from_pool.add(innovation, known, process);
+    }
+    const ProcessNoiseScale::Grid own = alone.evidence_since(fresh);
+    const ProcessNoiseScale::Grid own_from_pool = from_pool.evidence_since(pool_start);
+    for (int a = 0; a < 3; ++a) {
+      for (int point = 0; point < ProcessNoiseScale::kGridPoints; ++point) {
+        EXPECT_NEAR(own[a][point], own_from_pool[a][point], 1e-9 * (1.0 + std::abs(own[a][point])));
+        pooled[a][point] += own[a][point];
+      }
+    }
+    alone_error += (alone.scales().array().log2() - 4.0).abs().sum() / (3.0 * 40.0);
+  }
+  EXPECT_GT(alone_error, 1.0);  // 3 innovations: a scene alone is often off by more than twice
+  const Vector3d started = ProcessNoiseScale(pooled).scales();
+  EXPECT_GT(started.minCoeff(), 16.0 / 1.5);
+  EXPECT_LT(started.maxCoeff(), 16.0 * 1.5);
+  ProcessNoiseScale::Grid bad{};
+  bad[1][3] = std::numeric_limits<double>::quiet_NaN();
+  EXPECT_THROW(ProcessNoiseScale{bad}, std::invalid_argument);
 }
 
 }  // namespace

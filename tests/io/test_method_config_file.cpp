@@ -134,6 +134,11 @@ TEST(MethodConfigFile, OursErrorsNameTheLine) {
             "c.yaml:2: ours.registration_prior_scale must be per-scene or across-scenes");
   EXPECT_TRUE(parse_method_config("c.yaml", "ours:\n  registration_prior_scale: across-scenes\n").ours.registration_scale_across_scenes);
   EXPECT_FALSE(parse_method_config("c.yaml", "ours:\n  registration_prior_scale: per-scene\n").ours.registration_scale_across_scenes);
+  EXPECT_EQ(error_of("ours:\n  adapt_process_noise: true\n  process_noise_scale: pooled\n"),
+            "c.yaml:3: ours.process_noise_scale must be per-scene or across-scenes");
+  EXPECT_TRUE(parse_method_config("c.yaml", "ours:\n  process_noise_scale: across-scenes\n").ours.process_noise_scale_across_scenes);
+  EXPECT_FALSE(parse_method_config("c.yaml", "ours:\n  process_noise_scale: per-scene\n").ours.process_noise_scale_across_scenes);
+  EXPECT_FALSE(MethodConfig{}.ours.process_noise_scale_across_scenes);
   EXPECT_EQ(error_of("ours:\n  registration_range_scale_sigma: -0.01\n"),
             "c.yaml:2: ours.registration_range_scale_sigma must be a finite number >= 0");
   EXPECT_EQ(error_of("ours:\n  registration_range_scale_sigma: [0.01, 0.02]\n"),

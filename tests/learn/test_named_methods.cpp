@@ -97,29 +97,30 @@ TEST(NamedMethodRun, PartsOfAnySizeGiveTheWholeRunsEstimates) {
   }
 }
 
-// With the registration prior's scales learned across scenes, each scene's scales come from the
-// epochs before its own, whatever the parts: the same estimates, bit for bit, and different from
+// With the registration prior's scales, or Q's, learned across scenes, each scene's start comes from
+// the epochs before its own, whatever the parts: the same estimates, bit for bit, and different from
 // each scene learning its own.
 TEST(NamedMethodRun, ScalesAcrossScenesDoNotDependOnTheParts) {
   const std::string prior = "ours:\n  registration_translation_sigma_m: 0.1\n  registration_noise_ratio: 0.5\n";
-  const MethodConfig across = parse_method_config("c.yaml", prior + "  registration_prior_scale: across-scenes\n");
   const MethodConfig per_scene = parse_method_config("c.yaml", prior);
-  MethodRunReport whole_report;
-  const std::vector<Gaussian3> whole = run_named_method("ours", across, &model(), "model.pt", many_scenes(), &whole_report);
-  for (const std::size_t scenes : {kScenesPerFilterBlock, std::size_t{7}, std::size_t{256}}) {
-    MethodRunReport parts_report;
-    expect_identical(in_parts("ours", scenes, parts_report, across), whole, "in parts of " + std::to_string(scenes));
-  }
-  // The scenes after the first epoch ran with the pooled scales, every one of them reported.
-  EXPECT_GE(whole_report.registration_prior_scales.size(), 300u - RegistrationScalePool::kSceneEpoch);
   MethodRunReport own_report;
   const std::vector<Gaussian3> own = run_named_method("ours", per_scene, &model(), "model.pt", many_scenes(), &own_report);
-  std::size_t differing = 0;
-  for (std::size_t k = 0; k < own.size(); ++k) differing += own[k].covariance() != whole[k].covariance();
-  EXPECT_GT(differing, 0u);
+  for (const std::string pooled : {"registration_prior_scale", "process_noise_scale"}) {
+    const MethodConfig across = parse_method_config("c.yaml", prior + "  " + pooled + ": across-scenes\n");
+    MethodRunReport whole_report;
+    const std::vector<Gaussian3> whole = run_named_method("ours", across, &model(), "model.pt", many_scenes(), &whole_report);
+    for (const std::size_t scenes : {kScenesPerFilterBlock, std::size_t{7}, std::size_t{256}}) {
+      MethodRunReport parts_report;
+      expect_identical(in_parts("ours", scenes, parts_report, across), whole, pooled + " in parts of " + std::to_string(scenes));
+    }
+    // With the registration's scales pooled, the scenes after the first 16 ran with them, every one reported.
+    if (pooled == "registration_prior_scale") EXPECT_GE(whole_report.registration_prior_scales.size(), 300u - 16u);
+    std::size_t differing = 0;
+    for (std::size_t k = 0; k < own.size(); ++k) differing += own[k].covariance() != whole[k].covariance();
+    EXPECT_GT(differing, 0u) << pooled;
+  }
 }
 
-// sttp and the model-free methods do not depend on the parts' size at all.
 TEST(NamedMethodRun, SttpAndModelFreeMethodsTakeAnyParts) {
   for (const std::string method : {"sttp", "wls", "aom"}) {
     const std::vector<Gaussian3> whole = run_named_method(method, MethodConfig{}, &model(), "model.pt", many_scenes());

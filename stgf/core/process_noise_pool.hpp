@@ -1,0 +1,49 @@
+// SPDX-License-Identifier: Apache-2.0
+#pragma once
+// Q's scales λ learned across scenes (design §1.2, `process_noise_scale: across-scenes`). Each scene
+// learns λ from its own innovations (process_noise_scale.hpp), starting at 1: Q as calibrated. On
+// motion unlike the training data's (vehicles for a model of pedestrians: Q a hundred times too small)
+// a short scene ends before its λ has grown to fit, and its covariance is too narrow all along. The
+// scenes of one run come from the same sensors and the same kind of objects: their innovations' log
+// likelihoods of λ add up. This pool sums them, scene by scene in list order, for each of the three
+// scales a scene keeps (Φ's, constant velocity's where the scene follows it, and the coasting tracks'),
+// and a scene starts from the sum of the scenes of earlier *epochs* (scene_epochs.hpp) added to its
+// prior, so that its scales depend on its place in the list only — not on
+// how the list was cut into parts or blocks, nor on threads. The scene's own innovations then add to
+// that start as before.
+//
+// Assumption: the run's scenes share how far their motion departs from Q (the same λ fits them all,
+// up to what each scene's own innovations add). The summed evidence of many scenes holds λ near its
+// maximum-likelihood value over the run; a scene whose motion is harder than the rest's still widens
+// its own Q, since λ only grows from there as its innovations demand.
+
+#include <cstddef>
+#include <optional>
+
+#include "stgf/core/process_noise_scale.hpp"
+
+namespace stgf {
+
+// What a scene's innovations said of each of its Q scales (log likelihoods on ProcessNoiseScale's grid).
+struct ProcessNoiseEvidence {
+  ProcessNoiseScale::Grid followed{};    // Φ's λ
+  ProcessNoiseScale::Grid fallback{};    // constant velocity's λ (motion_choice.hpp)
+  ProcessNoiseScale::Grid coasting{};    // the coasting tracks' λ (design §1.9)
+  void add(const ProcessNoiseEvidence& other);
+};
+
+class ProcessNoisePool {
+ public:
+  // Adds the evidence of the scene at `scene_index` in the list. Scenes must come in list order of epochs.
+  void add(std::size_t scene_index, const ProcessNoiseEvidence& evidence);
+  // What the scene at `scene_index` starts from: the sum over the scenes of the epochs before its own;
+  // none in the first epoch.
+  std::optional<ProcessNoiseEvidence> evidence_for(std::size_t scene_index) const;
+
+ private:
+  ProcessNoiseEvidence committed_, pending_;  // epochs before pending_epoch_, and pending_epoch_ so far
+  std::size_t committed_scenes_ = 0, pending_scenes_ = 0;
+  std::size_t pending_epoch_ = 0;
+};
+
+}  // namespace stgf
