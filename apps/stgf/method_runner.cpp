@@ -24,7 +24,7 @@ constexpr double kLowMedian = 0.5, kHighMedian = 2.0, kLowTenth = 0.2, kHighNine
 // κ̂_t and κ̂_n over the scenes (registration_prior_scale.hpp): how far the views' offsets were from the
 // size the model's calibration expects, and, when the prior in use does not fit, a bound to set it to.
 void log_registration_prior_scales(const std::string& method, const std::vector<RegistrationPriorScales>& learned,
-                                   std::size_t without, const RegistrationPrior& prior) {
+                                   std::size_t without, const RegistrationPrior& prior, bool across_scenes) {
   if (!learned.empty()) {
     std::vector<double> translation, noise_ratio;
     for (const RegistrationPriorScales& scales : learned) {
@@ -39,9 +39,10 @@ void log_registration_prior_scales(const std::string& method, const std::vector<
     const auto quantiles = [&at](const std::vector<double>& sorted) {
       return fmt::format("median {:.2f} (10-90 %: {:.2f}-{:.2f})", at(sorted, 0.5), at(sorted, 0.1), at(sorted, 0.9));
     };
-    spdlog::info("{}: registration prior scaled per scene from the views' disagreements over {} scene(s): translation "
+    spdlog::info("{}: registration prior scaled {} from the views' disagreements over {} scene(s): translation "
                  "κ_t {}, offset in units of the noise κ_n {}; the offsets' σ is √κ times the model's calibration",
-                 method, learned.size(), quantiles(translation), quantiles(noise_ratio));
+                 method, across_scenes ? "across scenes" : "per scene", learned.size(), quantiles(translation),
+                 quantiles(noise_ratio));
     // Each scene's scales are held near 1 by its prior; many scenes far from 1 in one direction say
     // that the prior itself is off for these sensors.
     const auto direction = [&at](const std::vector<double>& sorted) {
@@ -70,10 +71,14 @@ void log_registration_prior_scales(const std::string& method, const std::vector<
         suggestion += fmt::format("{}registration_range_scale_sigma {} {:.3g}", suggestion.empty() ? "" : ", ", bound(n),
                                   prior.range_scale_sigma * kn);
       }
-      spdlog::info("{}: these views' offsets do not fit the registration prior in use: each scene learns its own "
-                   "scale, but only within a few times of the prior's, and a short scene less. If you know your "
+      spdlog::info("{}: these views' offsets do not fit the registration prior in use: {} If you know your "
                    "sensors' registration error, set it under `ours:` in --config; these scenes suggest {}",
-                   method, suggestion);
+                   method,
+                   across_scenes ? "the first 16 scenes learn their own scale, within a few times of the prior's "
+                                   "(the rest take the scenes' before them)."
+                                 : "each scene learns its own scale, but only within a few times of the prior's, and "
+                                   "a short scene less (`registration_prior_scale: across-scenes` pools the scenes).",
+                   suggestion);
     }
   }
   if (without > 0) {
@@ -121,11 +126,17 @@ void log_method_report(const std::string& method, const MethodConfig& config, co
                  "keeps the model",
                  method, choice.switched_scenes, choice.scenes, choice.switched_scenes - choice.constant_velocity_scenes);
   }
+  if (const auto& scales = report.process_noise_scales_across_scenes) {
+    spdlog::info("{}: Q scaled across scenes from the innovations: λ (x, y, z) = ({:.3g}, {:.3g}, {:.3g}) over the "
+                 "run's scenes (each scene starts from those before it and learns on from its own)",
+                 method, scales->x(), scales->y(), scales->z());
+  }
   if (!report.registration_prior_scales.empty() || report.scenes_without_prior_scale > 0) {
     // Only `ours` learns the scales, and it has a model.
     log_registration_prior_scales(method, report.registration_prior_scales, report.scenes_without_prior_scale,
                                   model != nullptr ? resolve_registration_prior(config.ours, model->metadata(), model_path)
-                                                   : RegistrationPrior{});
+                                                   : RegistrationPrior{},
+                                  config.ours.registration_scale_across_scenes);
   }
   if (report.rewinds > 0) {
     spdlog::info("{}: {} late row(s) fused in their place in time (arrived after later ones, within the lag window "

@@ -44,4 +44,10 @@ std::optional<ProcessNoiseEvidence> ProcessNoisePool::evidence_for(std::size_t s
   return sum;
 }
 
+Vector3d ProcessNoisePool::followed_scales() const {
+  ProcessNoiseEvidence sum = committed_;
+  sum.add(pending_);
+  return ProcessNoiseScale(sum.followed).scales();
+}
+
 }  // namespace stgf

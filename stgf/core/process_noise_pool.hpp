@@ -39,6 +39,8 @@ class ProcessNoisePool {
   // What the scene at `scene_index` starts from: the sum over the scenes of the epochs before its own;
   // none in the first epoch.
   std::optional<ProcessNoiseEvidence> evidence_for(std::size_t scene_index) const;
+  // Φ's λ̂ from every scene added so far (1 before any): what the run's scenes together said of Q.
+  Vector3d followed_scales() const;
 
  private:
   ProcessNoiseEvidence committed_, pending_;  // epochs before pending_epoch_, and pending_epoch_ so far

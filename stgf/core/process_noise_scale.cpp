@@ -8,9 +8,10 @@
 namespace stgf {
 namespace {
 
-constexpr double kLowestLog2 = 0.0;
+constexpr double kLowestLog2 = -6.0;
 constexpr double kLog2Step = 0.5;
 constexpr double kPriorSigma = 3.0;  // of ln λ
+static_assert(kLowestLog2 + kLog2Step * ProcessNoiseScale::kUnitPoint == 0.0);
 
 // λ at each grid point, computed once (add() reads all of them for every innovation).
 const std::array<double, ProcessNoiseScale::kGridPoints>& grid_scales() {
@@ -44,13 +45,14 @@ ProcessNoiseScale::ProcessNoiseScale(const Grid& evidence) : ProcessNoiseScale()
       log_posterior_[a][point] += evidence[a][point];
     }
   }
+  lowest_point_ = 0;
   choose_scales();
 }
 
 void ProcessNoiseScale::choose_scales() {
   for (int a = 0; a < 3; ++a) {
-    int best = 0;
-    for (int point = 1; point < kGridPoints; ++point) {
+    int best = lowest_point_;
+    for (int point = lowest_point_ + 1; point < kGridPoints; ++point) {
       if (log_posterior_[a][point] > log_posterior_[a][best]) best = point;
     }
     scales_[a] = grid_scale(best);
@@ -73,12 +75,12 @@ void ProcessNoiseScale::add(const Vector3d& innovation, const Matrix3d& known_co
   for (int a = 0; a < 3; ++a) {
     auto& axis = log_posterior_[a];
     const double squared = innovation[a] * innovation[a];
-    int best = 0;
+    int best = lowest_point_;
     const std::array<double, kGridPoints>& scales = grid_scales();
     for (int point = 0; point < kGridPoints; ++point) {
       const double variance = known_covariance(a, a) + scales[point] * process_noise(a, a);
       if (variance > 0.0) axis[point] -= 0.5 * weight * (squared / variance + std::log(variance));
-      if (axis[point] > axis[best]) best = point;
+      if (point >= lowest_point_ && axis[point] > axis[best]) best = point;
     }
     scales_[a] = grid_scale(best);
   }

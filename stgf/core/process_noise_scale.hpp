@@ -10,18 +10,21 @@
 // §1.2). Each world axis has its own λ (a model trained on people walking on a
 // floor has almost no vertical Q, and data with vertical noise or motion need a larger one there
 // only), estimated from that axis of the innovations seen so far, by its posterior on a fixed grid of
-// log₂ λ ∈ [0, 20] in steps of 1/2 under the wide prior ln λ ~ N(0, 3²) truncated to λ ≥ 1 (on the
+// log₂ λ ∈ [−6, 20] in steps of 1/2 under the wide prior ln λ ~ N(0, 3²) truncated to λ ≥ 1 (on the
 // validation splits of mpl, cad and ethucy, σ = 2 and 3 both beat 1 in DE and NEES, 3 slightly):
 //     log p(λ_a | ν₁..ν_k) = const − (ln λ_a)² / 18 + Σ_j w_j log N(ν_j,a; 0, A_j,aa + λ_a Q_j,aa);
-// λ̂_a is the grid point of highest posterior. Q only ever grows: it was calibrated on held-out data
-// like the training data, and innovations smaller than A says are no evidence that it is too large —
-// the filter's errors are correlated (an offset shared by the views is in the prediction and in the
-// measurement alike and cancels in ν). On the validation splits, letting λ fall below 1 (in a first,
-// single-λ version) raised NEES from 3.4 to 4.0 (mpl) and from 3.7 to 4.6 (cad), and DE with it.
+// λ̂_a is the grid point of highest posterior. Within a scene Q only ever grows: it was calibrated on
+// held-out data like the training data, and a few innovations smaller than A says are no evidence that
+// it is too large — the filter's errors are correlated (an offset shared by the views is in the
+// prediction and in the measurement alike and cancels in ν). On the validation splits, letting λ fall
+// below 1 per scene (in a first, single-λ version) raised NEES from 3.4 to 4.0 (mpl) and from 3.7 to
+// 4.6 (cad), and DE with it.
 //
 // Learned across scenes (process_noise_pool.hpp): a scene may start from the log likelihoods that
 // other scenes' innovations gave each grid point, added to the prior; what its own innovations add
-// is evidence_since(the scale it started as).
+// is evidence_since(the scale it started as). Started so, λ may fall below 1 (to 2⁻⁶): the run's
+// scenes together are evidence that Q is too large where a scene alone is not — a model trained on
+// vehicles and pedestrians has one Q for both, 300 times too large for the pedestrians (design §1.2).
 
 #include <array>
 
@@ -31,13 +34,15 @@ namespace stgf {
 
 class ProcessNoiseScale {
  public:
-  static constexpr int kGridPoints = 41;
+  static constexpr int kGridPoints = 53;
+  static constexpr int kUnitPoint = 12;  // λ = 1
 
-  // log p(innovations | λ_a) per axis a and grid point (log₂ λ = 0, 0.5, …, 20), up to a constant.
+  // log p(innovations | λ_a) per axis a and grid point (log₂ λ = −6, −5.5, …, 20), up to a constant.
   using Grid = std::array<std::array<double, kGridPoints>, 3>;
 
   ProcessNoiseScale();
-  // The prior plus what other innovations said (`evidence`: log likelihoods, e.g. other scenes').
+  // The prior plus what other innovations said (`evidence`: log likelihoods, e.g. other scenes'); its
+  // λ̂ may be below 1.
   explicit ProcessNoiseScale(const Grid& evidence);
 
   // Adds one innovation with weight `weight` (> 0; e.g. 1 / the number of correlated innovations).
@@ -56,6 +61,7 @@ class ProcessNoiseScale {
   void choose_scales();  // λ̂ per axis: its grid point of highest posterior
 
   Grid log_posterior_{};
+  int lowest_point_ = kUnitPoint;  // the lowest λ̂ may go: 1, or 2⁻⁶ when started from other evidence
   Vector3d scales_ = Vector3d::Ones();
   std::size_t innovations_ = 0;
 };

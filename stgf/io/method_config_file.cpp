@@ -179,8 +179,9 @@ void read_ours(const std::string& path, const YAML::Node& node, OursSettings& se
       settings.registration_scale_across_scenes =
           one_of(path, name, entry.second, {"per-scene", "across-scenes"}) == "across-scenes";
     } else if (key == "process_noise_scale") {
+      const std::string where = one_of(path, name, entry.second, {"auto", "per-scene", "across-scenes"});
       settings.process_noise_scale_across_scenes =
-          one_of(path, name, entry.second, {"per-scene", "across-scenes"}) == "across-scenes";
+          where == "auto" ? std::nullopt : std::optional<bool>(where == "across-scenes");
     } else if (key == "registration_range_scale_sigma") {
       settings.range_scale_sigma = non_negative_number(path, name, entry.second);
     } else if (key == "tracks") {

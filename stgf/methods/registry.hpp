@@ -22,7 +22,9 @@ struct OursSettings {
   std::optional<Vector3d> noise_ratio;        // α along, across, vertical to each ray; unset: the model's calibration
   std::optional<double> range_scale_sigma;    // σ_ε of each view's range scale; unset: the model's calibration
   bool adapt_process_noise = true;            // scale Q online from the innovations
-  bool process_noise_scale_across_scenes = false;  // ... pooled over the run's scenes (process_noise_pool.hpp)
+  // ... pooled over the run's scenes (process_noise_pool.hpp); unset (auto): for a model trained on
+  // several benchmarks (learns_process_noise_across_scenes).
+  std::optional<bool> process_noise_scale_across_scenes;
   MotionFallback motion_fallback = MotionFallback::kAuto;  // constant velocity where it predicts better
   bool adapt_registration_prior = true;       // scale the registration prior from the views' disagreements
   bool registration_scale_across_scenes = false;  // ... pooled over the run's scenes (registration_scale_pool.hpp)

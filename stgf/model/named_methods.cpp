@@ -42,6 +42,12 @@ FilterOptions filter_options_for(const OursSettings& settings, const nlohmann::j
   return options;
 }
 
+bool learns_process_noise_across_scenes(const OursSettings& settings, const nlohmann::json& metadata) {
+  if (settings.process_noise_scale_across_scenes) return *settings.process_noise_scale_across_scenes;
+  const auto benchmark = metadata.find("benchmark");
+  return benchmark != metadata.end() && benchmark->is_array() && benchmark->size() > 1;
+}
+
 void MethodRunReport::add(const MethodRunReport& later) {
   restarted_tracks += later.restarted_tracks;
   coasting_predictions += later.coasting_predictions;
@@ -53,6 +59,7 @@ void MethodRunReport::add(const MethodRunReport& later) {
                                    later.registration_prior_scales.end());
   scenes_without_prior_scale += later.scenes_without_prior_scale;
   motion_choice.add(later.motion_choice);
+  if (later.process_noise_scales_across_scenes) process_noise_scales_across_scenes = later.process_noise_scales_across_scenes;
 }
 
 std::vector<Gaussian3> run_named_method(const std::string& method, const MethodConfig& config, const TrainedMotionModel* model,
@@ -88,7 +95,8 @@ std::vector<Gaussian3> NamedMethodRun::add(std::span<const Measurement> rows) {
   const bool prediction_only = method_ == "ours-l";
   const ScenePools pools{
       .registration = config_.ours.registration_scale_across_scenes ? &registration_scales_ : nullptr,
-      .process_noise = config_.ours.process_noise_scale_across_scenes ? &process_noise_scales_ : nullptr};
+      .process_noise =
+          learns_process_noise_across_scenes(config_.ours, model_->metadata()) ? &process_noise_scales_ : nullptr};
   FilterRun run = run_spatiotemporal_graph_filter(*model_, options, rows, /*keep_predictions=*/prediction_only, pools, scenes_);
   scenes_ += run.scenes;
   part.restarted_tracks = run.restarted_tracks;
@@ -99,6 +107,7 @@ std::vector<Gaussian3> NamedMethodRun::add(std::span<const Measurement> rows) {
   part.registration_prior_scales = std::move(run.registration_prior_scales);
   part.scenes_without_prior_scale = run.scenes_without_prior_scale;
   part.motion_choice = run.motion_choice;
+  if (pools.process_noise != nullptr) part.process_noise_scales_across_scenes = process_noise_scales_.followed_scales();
   report_.add(part);
   if (prediction_only) {
     for (std::size_t row = 0; row < rows.size(); ++row) {

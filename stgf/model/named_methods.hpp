@@ -31,6 +31,13 @@ TrainedMotionModel load_model_for(const std::string& method, const std::string& 
 FilterOptions filter_options_for(const OursSettings& settings, const nlohmann::json& metadata,
                                  const std::string& model_path, bool* registration_missing = nullptr);
 
+// Whether `ours` learns Q's scales across the run's scenes (process_noise_pool.hpp): as set, or (auto)
+// for a model trained on several benchmarks (its metadata's `benchmark` a list of more than one): its
+// one Q is a compromise between kinds of motion (pedestrians and vehicles: 300 times apart) that fits
+// none of them, and the run's scenes together say which way to scale it. A model of one benchmark keeps
+// its calibrated Q, scaled per scene (design §1.2).
+bool learns_process_noise_across_scenes(const OursSettings& settings, const nlohmann::json& metadata);
+
 // What a run did that its caller should tell the user about.
 struct MethodRunReport {
   std::size_t restarted_tracks = 0;   // a track unseen for longer than the model's horizon started again
@@ -42,6 +49,8 @@ struct MethodRunReport {
   std::vector<RegistrationPriorScales> registration_prior_scales;  // κ̂_t, κ̂_n per scene that learned them (filter_runner.hpp)
   std::size_t scenes_without_prior_scale = 0;     // scenes that kept κ = 1
   MotionChoiceSummary motion_choice;              // which motion the scenes followed
+  // With Q's scales learned across scenes: Φ's λ̂ per world axis from all the run's scenes so far.
+  std::optional<Vector3d> process_noise_scales_across_scenes;
 
   // Adds what a run over later scenes did (a list run in parts).
   void add(const MethodRunReport& later);

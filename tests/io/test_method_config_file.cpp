@@ -135,10 +135,13 @@ TEST(MethodConfigFile, OursErrorsNameTheLine) {
   EXPECT_TRUE(parse_method_config("c.yaml", "ours:\n  registration_prior_scale: across-scenes\n").ours.registration_scale_across_scenes);
   EXPECT_FALSE(parse_method_config("c.yaml", "ours:\n  registration_prior_scale: per-scene\n").ours.registration_scale_across_scenes);
   EXPECT_EQ(error_of("ours:\n  adapt_process_noise: true\n  process_noise_scale: pooled\n"),
-            "c.yaml:3: ours.process_noise_scale must be per-scene or across-scenes");
-  EXPECT_TRUE(parse_method_config("c.yaml", "ours:\n  process_noise_scale: across-scenes\n").ours.process_noise_scale_across_scenes);
-  EXPECT_FALSE(parse_method_config("c.yaml", "ours:\n  process_noise_scale: per-scene\n").ours.process_noise_scale_across_scenes);
-  EXPECT_FALSE(MethodConfig{}.ours.process_noise_scale_across_scenes);
+            "c.yaml:3: ours.process_noise_scale must be auto, per-scene or across-scenes");
+  EXPECT_EQ(parse_method_config("c.yaml", "ours:\n  process_noise_scale: across-scenes\n").ours.process_noise_scale_across_scenes,
+            std::optional<bool>(true));
+  EXPECT_EQ(parse_method_config("c.yaml", "ours:\n  process_noise_scale: per-scene\n").ours.process_noise_scale_across_scenes,
+            std::optional<bool>(false));
+  EXPECT_FALSE(parse_method_config("c.yaml", "ours:\n  process_noise_scale: auto\n").ours.process_noise_scale_across_scenes);
+  EXPECT_FALSE(MethodConfig{}.ours.process_noise_scale_across_scenes.has_value());
   EXPECT_EQ(error_of("ours:\n  registration_range_scale_sigma: -0.01\n"),
             "c.yaml:2: ours.registration_range_scale_sigma must be a finite number >= 0");
   EXPECT_EQ(error_of("ours:\n  registration_range_scale_sigma: [0.01, 0.02]\n"),

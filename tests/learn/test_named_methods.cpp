@@ -121,6 +121,24 @@ TEST(NamedMethodRun, ScalesAcrossScenesDoNotDependOnTheParts) {
   }
 }
 
+// Q's scales are learned across scenes when set so, and by default for a model trained on several
+// benchmarks (one Q for several kinds of motion), not for a model of one.
+TEST(NamedMethodRun, LearnsQAcrossScenesForAModelOfSeveralBenchmarks) {
+  const nlohmann::json several = {{"benchmark", {"mpl", "cad"}}};
+  const nlohmann::json one = {{"benchmark", "mpl"}};
+  const OursSettings automatic;
+  EXPECT_TRUE(learns_process_noise_across_scenes(automatic, several));
+  EXPECT_FALSE(learns_process_noise_across_scenes(automatic, one));
+  EXPECT_FALSE(learns_process_noise_across_scenes(automatic, nlohmann::json::object()));
+  EXPECT_FALSE(learns_process_noise_across_scenes(automatic, {{"benchmark", {"mpl"}}}));
+  OursSettings per_scene;
+  per_scene.process_noise_scale_across_scenes = false;
+  EXPECT_FALSE(learns_process_noise_across_scenes(per_scene, several));
+  OursSettings across;
+  across.process_noise_scale_across_scenes = true;
+  EXPECT_TRUE(learns_process_noise_across_scenes(across, one));
+}
+
 TEST(NamedMethodRun, SttpAndModelFreeMethodsTakeAnyParts) {
   for (const std::string method : {"sttp", "wls", "aom"}) {
     const std::vector<Gaussian3> whole = run_named_method(method, MethodConfig{}, &model(), "model.pt", many_scenes());
