@@ -209,8 +209,8 @@ class Filter {
 
   py::array registration_offset(const std::string& view) const {
     const OffsetVector offset = filter_->registration_offset(view);
-    Array out(py::ssize_t{6});
-    for (int k = 0; k < 6; ++k) out.mutable_at(k) = offset(k);
+    Array out(py::ssize_t{kOffsetSize});  // (t, δ, ε)
+    for (int k = 0; k < kOffsetSize; ++k) out.mutable_at(k) = offset(k);
     return std::move(out);
   }
 

@@ -126,6 +126,10 @@ class TestFilter(unittest.TestCase):
             self.assertEqual(f.registration_prior_scales, (1.0, 1.0))
             f.fuse(time, view, obj, np.array(z), R)
             scales[adapt] = f.registration_prior_scales
+            offset = f.registration_offset("v0")  # (t, δ, ε): no δ or ε without their priors
+            self.assertEqual(offset.shape, (7,))
+            self.assertEqual(offset[3:].tolist(), [0.0] * 4)
+            self.assertGreater(np.abs(offset[:2]).max(), 0.0)
         self.assertGreater(scales["true"][0], 8.0)
         self.assertLess(scales["true"][0], 80.0)
         self.assertEqual(scales["true"][1], scales["true"][0])
