@@ -134,7 +134,7 @@ RegistrationCalibration calibrate_registration_prior(std::span<const Measurement
   std::map<std::pair<std::string, std::string>, GroupStatistics> by_group;
   for (std::size_t k = 0; k < measurements.size(); ++k) {
     const Measurement& measurement = measurements[k];
-    const Eigen::Matrix<double, 3, kOffsetSize> jacobian = offset_jacobian(measurement);
+    const Eigen::Matrix<double, 3, kOffsetSize> jacobian = offset_jacobian(measurement, truth[k]);
     const Eigen::Matrix<double, kOffsetSize, 3> weighted =
         jacobian.transpose() * measurement.position.information();
     GroupStatistics& group = by_group.try_emplace({measurement.scene, measurement.view}).first->second;
@@ -175,21 +175,23 @@ RegistrationCalibration calibrate_registration_prior_from_disagreements(
         std::vector<Eigen::Index> column(k);
         Matrix3d information_sum = Matrix3d::Zero();
         Vector3d weighted_sum = Vector3d::Zero();
+        for (const std::size_t row : rows) {
+          information_sum += measurements[row].position.information();
+          weighted_sum += measurements[row].position.information() * measurements[row].position.mean();
+        }
+        const Eigen::LLT<Matrix3d> total(information_sum);
+        const Vector3d mean = total.solve(weighted_sum);  // S⁻¹ y: ε's column is taken from it (offset_jacobian)
         for (std::size_t j = 0; j < k; ++j) {
           const Measurement& measurement = measurements[rows[j]];
           const Matrix3d& information = measurement.position.information();
-          const Eigen::Matrix<double, 3, kOffsetSize> jacobian = offset_jacobian(measurement);
+          const Eigen::Matrix<double, 3, kOffsetSize> jacobian = offset_jacobian(measurement, mean);
           weighted_jacobian[j] = information * jacobian;
           column[j] = kOffsetSize * view_index.at(measurement.view);
-          information_sum += information;
-          weighted_sum += information * measurement.position.mean();
           group.a.block<kOffsetSize, kOffsetSize>(column[j], column[j]).noalias() +=
               jacobian.transpose() * weighted_jacobian[j];
           group.b.segment<kOffsetSize>(column[j]).noalias() +=
               weighted_jacobian[j].transpose() * measurement.position.mean();
         }
-        const Eigen::LLT<Matrix3d> total(information_sum);
-        const Vector3d mean = total.solve(weighted_sum);  // S⁻¹ y
         for (std::size_t i = 0; i < k; ++i) {
           const Eigen::Matrix<double, 3, kOffsetSize> spread =
               total.solve(weighted_jacobian[i]);  // S⁻¹ W_i H_i

@@ -43,6 +43,14 @@ Matrix36 offset_jacobian(const Measurement& measurement) {
   return jacobian;
 }
 
+OffsetJacobian offset_jacobian(const Measurement& measurement, const Vector3d& position) {
+  OffsetJacobian jacobian = offset_jacobian(measurement);
+  if (!measurement.sensor_position) return jacobian;
+  const Vector3d& sensor = *measurement.sensor_position;
+  jacobian.col(6) = Vector3d(position.x() - sensor.x(), position.y() - sensor.y(), 0.0);
+  return jacobian;
+}
+
 OffsetMatrix RegistrationPrior::covariance() const {
   for (int axis = 0; axis < 3; ++axis) {
     const double sigma = translation_sigma[axis];
@@ -100,16 +108,33 @@ OffsetMatrix ViewRegistration::offset_covariance(std::string_view view) const {
   return covariance_.block<kOffsetSize, kOffsetSize>(kOffsetSize * index, kOffsetSize * index);
 }
 
+namespace {
+
+// The information-weighted mean of measurements of one object at one time: where ε's column is taken
+// from for each of them (offset_jacobian).
+Vector3d weighted_mean(std::span<const Measurement* const> measurements) {
+  Matrix3d information = Matrix3d::Zero();
+  Vector3d weighted = Vector3d::Zero();
+  for (const Measurement* measurement : measurements) {
+    information += measurement->position.information();
+    weighted += measurement->position.information() * measurement->position.mean();
+  }
+  return information.llt().solve(weighted);
+}
+
+}  // namespace
+
 Gaussian3 ViewRegistration::combine(std::span<const Measurement* const> measurements_of_object) const {
   const auto k = static_cast<Eigen::Index>(measurements_of_object.size());
   if (k == 0) throw std::invalid_argument("ViewRegistration::combine needs at least one measurement");
   std::vector<int> index(static_cast<std::size_t>(k));
   std::vector<Matrix36> jacobian(static_cast<std::size_t>(k));
   Eigen::VectorXd corrected(3 * k);
+  const Vector3d mean = weighted_mean(measurements_of_object);
   for (Eigen::Index j = 0; j < k; ++j) {
     const Measurement& measurement = *measurements_of_object[static_cast<std::size_t>(j)];
     index[j] = index_of(measurement.view);
-    jacobian[j] = offset_jacobian(measurement);
+    jacobian[j] = offset_jacobian(measurement, mean);
     corrected.segment<3>(3 * j) = measurement.position.mean();
     if (index[j] >= 0) corrected.segment<3>(3 * j) -= jacobian[j] * offsets_.segment<kOffsetSize>(kOffsetSize * index[j]);
   }
@@ -160,9 +185,10 @@ void ViewRegistration::learn(std::span<const Measurement* const> step) {
     const Eigen::Index m = 3 * (k - 1);
     std::vector<Eigen::Index> column(static_cast<std::size_t>(k));
     std::vector<Matrix36> jacobian(static_cast<std::size_t>(k));
+    const Vector3d mean = weighted_mean(rows);
     for (Eigen::Index j = 0; j < k; ++j) {
       column[j] = kOffsetSize * index_of(rows[j]->view);
-      jacobian[j] = offset_jacobian(*rows[j]);
+      jacobian[j] = offset_jacobian(*rows[j], mean);
     }
     Eigen::MatrixXd observation = Eigen::MatrixXd::Zero(m, kOffsetSize * k);  // H_obs on the involved columns
     Eigen::VectorXd innovation(m);

@@ -86,10 +86,15 @@ OffsetJacobian offset_jacobian(const Matrix3d& measurement_covariance);
 // H = [I₃  F  r] for a measurement: with its sensor position s known, F = G L(Gᵀ R G), G the turn
 // about the vertical taking x to the heading of its ray (object − sensor), so that δ's first component
 // moves the measurement along its own ray, in the ray's own sense, and F turns with the world frame
-// (design §1.1), and r = (z − s) in the horizontal plane, ε's column (the measurement stands in for
-// the unknown position: an error of ε times the noise, second order); without one (or straight
-// above the sensor), offset_jacobian(R).
+// (design §1.1), and r = (z − s) in the horizontal plane, ε's column; without one (or straight above
+// the sensor), offset_jacobian(R).
 OffsetJacobian offset_jacobian(const Measurement& measurement);
+// The same with ε's column from `position`, an estimate of the object's position that does not hold
+// this measurement's own noise (the truth, the object's fused estimate, the mean of the views that
+// measured it with it): from the measurement itself, one ε for every view with t_u = ε s_u would make
+// every offset ε z_u, a scaling of the world about its origin that shrinks each disagreement by
+// (1 − ε), and the views' noise would pass for offsets (design §1.7). Without a sensor position, as above.
+OffsetJacobian offset_jacobian(const Measurement& measurement, const Vector3d& position);
 
 class ViewRegistration {
  public:
