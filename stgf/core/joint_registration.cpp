@@ -146,15 +146,6 @@ const JointRegistration::ObjectState& JointRegistration::object_state(std::strin
   return found->second;
 }
 
-Matrix36 JointRegistration::jacobian_of(const Measurement& measurement) const {
-  if (prior_.range_scale_sigma == 0.0 || !measurement.sensor_position) return offset_jacobian(measurement);
-  const auto found = objects_.find(measurement.object);
-  if (found == objects_.end()) return offset_jacobian(measurement);
-  // ε's column from the object's estimate (offset_jacobian): on ETH/UCY, from the measurement itself,
-  // the per-scene κ̂ ran to 2¹⁰ and DE from 0.09 to 0.17 m (design §1.7).
-  return offset_jacobian(measurement, marginal(found->second).mean());
-}
-
 Matrix3X JointRegistration::measurement_offsets(const ObjectState& object, const ViewBlocks* view,
                                                 const Matrix36& h) const {
   Matrix3X c = object.offsets;
@@ -198,7 +189,7 @@ JointRegistration::Innovation JointRegistration::innovation(const Measurement& m
   const ObjectState& object = object_state(measurement.object);
   const ViewBlocks* view = view_blocks(measurement.view);
   const Matrix3d& r = measurement.position.covariance();
-  const Matrix36 h = jacobian_of(measurement);
+  const Matrix36 h = offset_jacobian(measurement);
   // ν = z − p̂_i − H_u β̂_u = z − â_i − C β̂,  S = P_i + C Σ_β Cᵀ + μR (+ H_u Σ_prior H_uᵀ for a view not
   // yet seen), C = B_i + H_u E_u: C Σ_β Cᵀ = ‖L⁻¹Cᵀ‖², L⁻¹Cᵀ = W_i + Y_u H_uᵀ.
   refresh();
@@ -249,7 +240,7 @@ JointRegistration::Innovation JointRegistration::innovation(std::span<const Meas
   for (std::size_t k = 0; k < measurements.size(); ++k) {
     const Measurement& measurement = *measurements[k];
     const Matrix3d weight = combined_noise * weights[k];  // W_k
-    const Matrix36 h = jacobian_of(measurement);
+    const Matrix36 h = offset_jacobian(measurement);
     Vector3d value = measurement.position.mean() - predicted;
     if (const ViewBlocks* view = view_blocks(measurement.view); view != nullptr) {
       value -= h * offset_mean(*view);
@@ -293,7 +284,7 @@ void JointRegistration::update(std::span<const Measurement* const> measurements,
     const Matrix3d& r = measurements[k]->position.covariance();
     const Cholesky3 noise_factor(noise_scales[k] * r);  // R_k
     if (!noise_factor.ok()) throw std::runtime_error("registration: a measurement's covariance is not positive definite");
-    terms.push_back(UpdateTerm{add_view(measurements[k]->view), jacobian_of(*measurements[k]), noise_factor.inverse()});
+    terms.push_back(UpdateTerm{add_view(measurements[k]->view), offset_jacobian(*measurements[k]), noise_factor.inverse()});
   }
   ObjectState& object = found->second;
   const Eigen::Index size = offsets_information_vector_.size();
@@ -469,7 +460,27 @@ void JointRegistration::observe_differences(std::span<const Measurement* const> 
     if (!noise_factor.ok()) throw std::runtime_error("registration: a measurement's covariance is not positive definite");
     const Vector3d& z = measurement.position.mean();
     Term& term = terms[k];
-    term = Term{view, jacobian_of(measurement), noise_factor.inverse(), z};
+    term = Term{view, Matrix36(), noise_factor.inverse(), z};
+  }
+  // ε's column from the measurements' weighted mean, common to them all (offset_jacobian): from each
+  // measurement itself, one ε for every view with t_u = ε s_u would shrink every difference by (1 − ε)
+  // and the views' noise pass for offsets (on ETH/UCY the per-scene κ̂ ran to 2¹⁰: design §1.7).
+  Vector3d common_position = measurements.front()->position.mean();
+  if (prior_.range_scale_sigma > 0.0) {
+    Matrix3d information = Matrix3d::Zero();
+    Vector3d weighted = Vector3d::Zero();
+    for (const Term& term : terms) {
+      information += term.weight;
+      weighted += term.weight * term.corrected;
+    }
+    common_position = information.llt().solve(weighted);
+  }
+  for (std::size_t k = 0; k < measurements.size(); ++k) {
+    const Measurement& measurement = *measurements[k];
+    const ViewBlocks* view = terms[k].view;
+    const Vector3d& z = measurement.position.mean();
+    Term& term = terms[k];
+    term.h = prior_.range_scale_sigma > 0.0 ? offset_jacobian(measurement, common_position) : offset_jacobian(measurement);
     for (const OffsetBlock& block : view->blocks) {
       const BlockColumns g = term.h * block.basis;
       const auto same = std::find_if(segments.begin(), segments.end(),
@@ -604,7 +615,7 @@ Matrix3d JointRegistration::offsets_covariance(std::span<const Measurement* cons
   refresh();
   Eigen::Matrix<double, Eigen::Dynamic, 3> whitened = Eigen::Matrix<double, Eigen::Dynamic, 3>::Zero(offsets_mean_.size(), 3);
   for (std::size_t k = 0; k < measurements.size(); ++k) {
-    const Matrix36 weighted = weights[k] * jacobian_of(*measurements[k]);
+    const Matrix36 weighted = weights[k] * offset_jacobian(*measurements[k]);
     if (const ViewBlocks* view = view_blocks(measurements[k]->view); view != nullptr) {
       whitened.noalias() += whitened_selector(*view) * weighted.transpose();
     } else {
@@ -619,7 +630,7 @@ Gaussian3 JointRegistration::corrected(const Measurement& measurement, double no
   const Matrix3d& r = measurement.position.covariance();
   if (prior_.is_zero() && noise_scale == 1.0) return measurement.position;
   if (prior_.is_zero()) return Gaussian3::from_covariance(measurement.position.mean(), noise_scale * r);
-  const Matrix36 h = jacobian_of(measurement);
+  const Matrix36 h = offset_jacobian(measurement);
   return Gaussian3::from_covariance(measurement.position.mean() - h * offset(measurement.view),
                                     noise_scale * r + h * offset_covariance(measurement.view) * h.transpose());
 }

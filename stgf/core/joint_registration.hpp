@@ -210,9 +210,6 @@ class JointRegistration {
   void append_block(ViewBlocks& view, const Eigen::Matrix<double, kOffsetSize, Eigen::Dynamic>& basis,
                     const std::vector<double>& information, const std::vector<RegistrationPriorScale::Group>& groups);
   const ObjectState& object_state(std::string_view object) const;
-  // H_u for a measurement (offset_jacobian), with ε's column taken from its object's estimate where
-  // the object is known (the measurement's own otherwise).
-  OffsetJacobian jacobian_of(const Measurement& measurement) const;
   // C = B_i + H_u E_u: how a measurement of object i by view u (none: a view not in β) depends on β.
   Eigen::Matrix<double, 3, Eigen::Dynamic> measurement_offsets(const ObjectState& object, const ViewBlocks* view,
                                                                const OffsetJacobian& h) const;
