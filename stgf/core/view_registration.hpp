@@ -89,11 +89,11 @@ OffsetJacobian offset_jacobian(const Matrix3d& measurement_covariance);
 // (design §1.1), and r = (z − s) in the horizontal plane, ε's column; without one (or straight above
 // the sensor), offset_jacobian(R).
 OffsetJacobian offset_jacobian(const Measurement& measurement);
-// The same with ε's column from `position`, an estimate of the object's position that does not hold
-// this measurement's own noise (the truth, the object's fused estimate, the mean of the views that
-// measured it with it): from the measurement itself, one ε for every view with t_u = ε s_u would make
-// every offset ε z_u, a scaling of the world about its origin that shrinks each disagreement by
-// (1 − ε), and the views' noise would pass for offsets (design §1.7). Without a sensor position, as above.
+// The same with ε's column from `position`, common to the views being compared (their weighted mean):
+// wherever views' measurements are differenced, from each measurement itself one ε for every view with
+// t_u = ε s_u would make every offset ε z_u, a scaling of the world about its origin that shrinks each
+// disagreement by (1 − ε), and the views' noise would pass for offsets (design §1.7). Without a sensor
+// position, as above.
 OffsetJacobian offset_jacobian(const Measurement& measurement, const Vector3d& position);
 
 class ViewRegistration {
