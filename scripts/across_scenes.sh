@@ -9,6 +9,7 @@
 # scripts/generalization.sh and scripts/general_model.sh first. Prints a markdown table.
 set -euo pipefail
 cd "$(dirname "$0")/.."
+. scripts/score_ours.sh
 models=build/reproduce/models
 benchmarks=build/reproduce/benchmarks
 proxies=build/generalization
@@ -23,19 +24,11 @@ printf 'ours:\n  process_noise_scale: per-scene\n  registration_prior_scale: per
 printf 'ours:\n  process_noise_scale: across-scenes\n  registration_prior_scale: per-scene\n' > "$out/q-across.yaml"
 printf 'ours:\n  process_noise_scale: per-scene\n  registration_prior_scale: across-scenes\n' > "$out/registration-across.yaml"
 printf 'ours:\n  process_noise_scale: across-scenes\n  registration_prior_scale: across-scenes\n' > "$out/both-across.yaml"
-score() {  # MODEL SPLIT_DIR CONFIG: "DE / NEES" of ours
-  local estimates="$out/estimates.csv"
-  rm -f "$estimates"
-  build/stgf run --method ours --model "$1" --config "$3" --measurements "$2/measurements.csv" --out "$estimates" 2>/dev/null
-  build/stgf eval --truth "$2/truth.csv" --estimates "$estimates" --measurements "$2/measurements.csv" \
-    --from-step 2 2>/dev/null | awk -F'|' '$2 ~ /^ *ours *$/ { gsub(/ /, "", $4); gsub(/ /, "", $6); print $4 " / " $6; exit }'
-  rm -f "$estimates"
-}
 echo "| model | validation split | Q, κ per scene | Q across scenes | κ across scenes | both across scenes |"
 echo "|---|---|---:|---:|---:|---:|"
 row() {  # MODEL_NAME MODEL SPLIT_NAME SPLIT_DIR
   local line="| $1 | $3"
-  for config in "${configs[@]}"; do line="$line | $(score "$2" "$4" "$out/$config.yaml")"; done
+  for config in "${configs[@]}"; do line="$line | $(score_ours "$2" "$4" "$out/$config.yaml" "$out")"; done
   echo "$line |"
 }
 row mpl "$models/mpl.pt" mpl "$benchmarks/mpl/val"

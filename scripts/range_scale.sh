@@ -9,6 +9,7 @@
 # splits. Seed 1. Run scripts/results.sh and scripts/generalization.sh first. Prints a markdown table.
 set -euo pipefail
 cd "$(dirname "$0")/.."
+. scripts/score_ours.sh
 bench=build/reproduce/benchmarks/mpl
 proxies=build/generalization
 [ -d "$bench" ] || { echo "run scripts/results.sh first" >&2; exit 2; }
@@ -24,14 +25,6 @@ for name in default per-axis range-scale per-axis-range-scale; do
 done
 printf 'ours:\n  registration_prior_scale: across-scenes\n' > "$out/across-scenes.yaml"
 printf 'ours:\n  registration_prior_scale: per-scene\n' > "$out/per-scene.yaml"
-score() {  # score MODEL DIR SPLIT CONFIG: "DE / NEES" of ours
-  local estimates="$out/estimates.csv"
-  rm -f "$estimates"
-  build/stgf run --method ours --model "$1" --config "$4" --measurements "$2/$3/measurements.csv" --out "$estimates" 2>/dev/null
-  build/stgf eval --truth "$2/$3/truth.csv" --estimates "$estimates" --measurements "$2/$3/measurements.csv" \
-    --from-step 2 2>/dev/null | awk -F'|' '$2 ~ /^ *ours *$/ { gsub(/ /, "", $4); gsub(/ /, "", $6); print $4 " / " $6; exit }'
-  rm -f "$estimates"
-}
 echo "| model (calibrated on mpl val) | mpl val | 3× val | 5× val | mpl test | 3× test | 5× test |"
 echo "|---|---:|---:|---:|---:|---:|---:|"
 for run in default per-axis range-scale per-axis-range-scale default:across-scenes per-axis-range-scale:across-scenes; do
@@ -42,7 +35,7 @@ for run in default per-axis range-scale per-axis-range-scale default:across-scen
   [ "$scales" = per-scene ] || row="$row, κ $scales"
   for split in val test; do
     for dir in "$bench" "$proxies/mpl-calibration-x3" "$proxies/mpl-calibration-x5"; do
-      row="$row | $(score "$out/$name.pt" "$dir" "$split" "$out/$scales.yaml")"
+      row="$row | $(score_ours "$out/$name.pt" "$dir/$split" "$out/$scales.yaml" "$out")"
     done
   done
   echo "$row |"
