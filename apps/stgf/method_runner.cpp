@@ -127,9 +127,20 @@ void log_method_report(const std::string& method, const MethodConfig& config, co
                  method, choice.switched_scenes, choice.scenes, choice.switched_scenes - choice.constant_velocity_scenes);
   }
   if (const auto& scales = report.process_noise_scales_across_scenes) {
-    spdlog::info("{}: Q scaled across scenes from the innovations: λ (x, y, z) = ({:.3g}, {:.3g}, {:.3g}) over the "
-                 "run's scenes (each scene starts from those before it and learns on from its own)",
-                 method, scales->x(), scales->y(), scales->z());
+    std::string learned;
+    const auto add = [&learned](const char* what, const std::optional<Vector3d>& scale) {
+      if (!scale) return;
+      learned += fmt::format("{}{} ({:.3g}, {:.3g}, {:.3g})", learned.empty() ? "" : ", ", what, scale->x(), scale->y(),
+                             scale->z());
+    };
+    add("the model's", scales->followed);
+    add("constant velocity's", scales->fallback);
+    add("the coasting tracks'", scales->coasting);
+    if (!learned.empty()) {
+      spdlog::info("{}: Q scaled across scenes from the innovations, λ per axis (x, y, z): {} (each scene starts from "
+                   "the scenes before it and learns on from its own)",
+                   method, learned);
+    }
   }
   if (!report.registration_prior_scales.empty() || report.scenes_without_prior_scale > 0) {
     // Only `ours` learns the scales, and it has a model.

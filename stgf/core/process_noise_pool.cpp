@@ -44,10 +44,18 @@ std::optional<ProcessNoiseEvidence> ProcessNoisePool::evidence_for(std::size_t s
   return sum;
 }
 
-Vector3d ProcessNoisePool::followed_scales() const {
+ProcessNoisePool::Scales ProcessNoisePool::scales() const {
   ProcessNoiseEvidence sum = committed_;
   sum.add(pending_);
-  return ProcessNoiseScale(sum.followed).scales();
+  const auto of = [](const ProcessNoiseScale::Grid& grid) -> std::optional<Vector3d> {
+    for (const auto& axis : grid) {
+      for (const double value : axis) {
+        if (value != 0.0) return ProcessNoiseScale(grid).scales();
+      }
+    }
+    return std::nullopt;
+  };
+  return {of(sum.followed), of(sum.fallback), of(sum.coasting)};
 }
 
 }  // namespace stgf

@@ -39,8 +39,12 @@ class ProcessNoisePool {
   // What the scene at `scene_index` starts from: the sum over the scenes of the epochs before its own;
   // none in the first epoch.
   std::optional<ProcessNoiseEvidence> evidence_for(std::size_t scene_index) const;
-  // Φ's λ̂ from every scene added so far (1 before any): what the run's scenes together said of Q.
-  Vector3d followed_scales() const;
+  // λ̂ of each of the three scales from every scene added so far: what the run's scenes together said
+  // of Q; none for a scale no innovation taught (e.g. Φ's where every track coasted).
+  struct Scales {
+    std::optional<Vector3d> followed, fallback, coasting;
+  };
+  Scales scales() const;
 
  private:
   ProcessNoiseEvidence committed_, pending_;  // epochs before pending_epoch_, and pending_epoch_ so far

@@ -107,7 +107,7 @@ std::vector<Gaussian3> NamedMethodRun::add(std::span<const Measurement> rows) {
   part.registration_prior_scales = std::move(run.registration_prior_scales);
   part.scenes_without_prior_scale = run.scenes_without_prior_scale;
   part.motion_choice = run.motion_choice;
-  if (pools.process_noise != nullptr) part.process_noise_scales_across_scenes = process_noise_scales_.followed_scales();
+  if (pools.process_noise != nullptr) part.process_noise_scales_across_scenes = process_noise_scales_.scales();
   report_.add(part);
   if (prediction_only) {
     for (std::size_t row = 0; row < rows.size(); ++row) {

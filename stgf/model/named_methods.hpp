@@ -49,8 +49,8 @@ struct MethodRunReport {
   std::vector<RegistrationPriorScales> registration_prior_scales;  // κ̂_t, κ̂_n per scene that learned them (filter_runner.hpp)
   std::size_t scenes_without_prior_scale = 0;     // scenes that kept κ = 1
   MotionChoiceSummary motion_choice;              // which motion the scenes followed
-  // With Q's scales learned across scenes: Φ's λ̂ per world axis from all the run's scenes so far.
-  std::optional<Vector3d> process_noise_scales_across_scenes;
+  // With Q's scales learned across scenes: their λ̂ per world axis from all the run's scenes so far.
+  std::optional<ProcessNoisePool::Scales> process_noise_scales_across_scenes;
 
   // Adds what a run over later scenes did (a list run in parts).
   void add(const MethodRunReport& later);

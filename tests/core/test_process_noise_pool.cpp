@@ -50,5 +50,20 @@ TEST(ProcessNoisePool, ScenesStartFromTheEpochsBeforeTheirOwn) {
   EXPECT_THROW(pool.add(1, evidence_of(1.0)), std::logic_error);
 }
 
+// What the run's scenes said of each scale: none for a scale no innovation taught.
+TEST(ProcessNoisePool, ReportsTheScalesTheScenesTaught) {
+  ProcessNoisePool pool;
+  EXPECT_FALSE(pool.scales().followed.has_value());
+  ProcessNoiseEvidence coasting_only;
+  // log₂ λ = 2 (grid point kUnitPoint + 4) far the likeliest on every axis.
+  for (auto& axis : coasting_only.coasting) axis[ProcessNoiseScale::kUnitPoint + 4] = 100.0;
+  pool.add(0, coasting_only);
+  const ProcessNoisePool::Scales scales = pool.scales();
+  EXPECT_FALSE(scales.followed.has_value());
+  EXPECT_FALSE(scales.fallback.has_value());
+  ASSERT_TRUE(scales.coasting.has_value());
+  EXPECT_EQ(*scales.coasting, Vector3d::Constant(4.0));
+}
+
 }  // namespace
 }  // namespace stgf
