@@ -29,6 +29,12 @@ double grid_scale(int point) { return grid_scales()[point]; }
 
 }  // namespace
 
+ProcessNoiseScale ProcessNoiseScale::learning_the_whole_grid() {
+  ProcessNoiseScale scale;
+  scale.first_point_ = 0;
+  return scale;
+}
+
 ProcessNoiseScale::ProcessNoiseScale() {
   for (auto& axis : log_posterior_) {
     for (int point = 0; point < kGridPoints; ++point) {
@@ -45,6 +51,7 @@ ProcessNoiseScale::ProcessNoiseScale(const Grid& evidence) : ProcessNoiseScale()
       log_posterior_[a][point] += evidence[a][point];
     }
   }
+  first_point_ = 0;
   lowest_point_ = 0;
   choose_scales();
 }
@@ -77,7 +84,7 @@ void ProcessNoiseScale::add(const Vector3d& innovation, const Matrix3d& known_co
     const double squared = innovation[a] * innovation[a];
     int best = lowest_point_;
     const std::array<double, kGridPoints>& scales = grid_scales();
-    for (int point = 0; point < kGridPoints; ++point) {
+    for (int point = first_point_; point < kGridPoints; ++point) {
       const double variance = known_covariance(a, a) + scales[point] * process_noise(a, a);
       if (variance > 0.0) axis[point] -= 0.5 * weight * (squared / variance + std::log(variance));
       if (point >= lowest_point_ && axis[point] > axis[best]) best = point;

@@ -40,7 +40,11 @@ class ProcessNoiseScale {
   // log p(innovations | λ_a) per axis a and grid point (log₂ λ = −6, −5.5, …, 20), up to a constant.
   using Grid = std::array<std::array<double, kGridPoints>, 3>;
 
+  // The prior alone, λ ≥ 1: the innovations are weighed on the grid points λ ≥ 1 only (the rest are
+  // never read: a scale of one scene).
   ProcessNoiseScale();
+  // The same, weighing them on the whole grid: a scene whose evidence other scenes will start from.
+  static ProcessNoiseScale learning_the_whole_grid();
   // The prior plus what other innovations said (`evidence`: log likelihoods, e.g. other scenes'); its
   // λ̂ may be below 1.
   explicit ProcessNoiseScale(const Grid& evidence);
@@ -54,7 +58,8 @@ class ProcessNoiseScale {
   // D Q D.
   Matrix3d scaled(const Matrix3d& process_noise) const;
   std::size_t innovations() const { return innovations_; }
-  // The log likelihoods added since this scale was `start` (a copy of an earlier state of it).
+  // The log likelihoods added since this scale was `start` (a copy of an earlier state of it), on the
+  // grid points it weighs (0 elsewhere).
   Grid evidence_since(const ProcessNoiseScale& start) const;
 
  private:
@@ -62,6 +67,7 @@ class ProcessNoiseScale {
 
   Grid log_posterior_{};
   int lowest_point_ = kUnitPoint;  // the lowest λ̂ may go: 1, or 2⁻⁶ when started from other evidence
+  int first_point_ = kUnitPoint;   // the first grid point the innovations are weighed on
   Vector3d scales_ = Vector3d::Ones();
   std::size_t innovations_ = 0;
 };

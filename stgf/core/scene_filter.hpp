@@ -121,6 +121,8 @@ struct FilterOptions {
   // What other scenes' innovations said of Q's scales λ: this scene's start (process_noise_pool.hpp;
   // none: the prior alone).
   std::shared_ptr<const ProcessNoiseEvidence> process_noise_start;
+  // Whether other scenes will start from this one's (its λ grids weighed whole, below 1 too).
+  bool process_noise_pooled = false;
   TrackMode tracks = TrackMode::kPerObject;
   double lag_window = 1.0;                  // s: how late a measurement may come and still count
   // Each Result carries what its track predicted (false: none, for a caller that does not read

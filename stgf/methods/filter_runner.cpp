@@ -190,6 +190,7 @@ FilterRun run_spatiotemporal_graph_filter(const MotionPredictor& predictor, cons
       count = std::min(count, scene_epoch_end(global) - global);
     }
     if (pools.process_noise != nullptr) {
+      block_options.process_noise_pooled = true;
       if (auto start = pools.process_noise->evidence_for(global)) {
         block_options.process_noise_start = std::make_shared<const ProcessNoiseEvidence>(std::move(*start));
       }

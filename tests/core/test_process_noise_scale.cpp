@@ -101,10 +101,10 @@ TEST(ProcessNoiseScale, StartsFromOtherScenesEvidence) {
   ProcessNoiseScale::Grid pooled{};
   double alone_error = 0.0;  // mean |log₂ λ̂ − log₂ 16| of the scenes alone, per axis
   for (int scene = 0; scene < 40; ++scene) {
-    const ProcessNoiseScale fresh;
+    const ProcessNoiseScale fresh = ProcessNoiseScale::learning_the_whole_grid();
     ProcessNoiseScale from_pool(pooled);
     const ProcessNoiseScale pool_start = from_pool;
-    ProcessNoiseScale alone;
+    ProcessNoiseScale alone = fresh;
     for (int k = 0; k < 3; ++k) {
       const Vector3d innovation = factor * Vector3d(normal(random), normal(random), normal(random));
       alone.add(innovation, known, process);
@@ -124,6 +124,17 @@ TEST(ProcessNoiseScale, StartsFromOtherScenesEvidence) {
   const Vector3d started = ProcessNoiseScale(pooled).scales();
   EXPECT_GT(started.minCoeff(), 16.0 / 1.5);
   EXPECT_LT(started.maxCoeff(), 16.0 * 1.5);
+  // A scene of its own weighs its innovations on λ ≥ 1 only, and its λ̂ is the same.
+  ProcessNoiseScale own;
+  ProcessNoiseScale whole = ProcessNoiseScale::learning_the_whole_grid();
+  for (int k = 0; k < 20; ++k) {
+    const Vector3d innovation = 0.1 * Vector3d(normal(random), normal(random), normal(random));
+    own.add(innovation, known, process);
+    whole.add(innovation, known, process);
+  }
+  EXPECT_EQ(own.scales(), whole.scales());
+  EXPECT_EQ(own.evidence_since(ProcessNoiseScale())[0][0], 0.0);
+  EXPECT_NE(whole.evidence_since(ProcessNoiseScale::learning_the_whole_grid())[0][0], 0.0);
   ProcessNoiseScale::Grid bad{};
   bad[1][3] = std::numeric_limits<double>::quiet_NaN();
   EXPECT_THROW(ProcessNoiseScale{bad}, std::invalid_argument);
