@@ -460,27 +460,20 @@ void JointRegistration::observe_differences(std::span<const Measurement* const> 
     if (!noise_factor.ok()) throw std::runtime_error("registration: a measurement's covariance is not positive definite");
     const Vector3d& z = measurement.position.mean();
     Term& term = terms[k];
-    term = Term{view, Matrix36(), noise_factor.inverse(), z};
+    term = Term{view, Matrix36::Zero(), noise_factor.inverse(), z};  // h: below, once S⁻¹ y is known
+    s += term.weight;
+    y.noalias() += term.weight * z;
   }
-  // ε's column from the measurements' weighted mean, common to them all (offset_jacobian): from each
-  // measurement itself, one ε for every view with t_u = ε s_u would shrink every difference by (1 − ε)
-  // and the views' noise pass for offsets (on ETH/UCY the per-scene κ̂ ran to 2¹⁰: design §1.7).
-  Vector3d common_position = measurements.front()->position.mean();
-  if (prior_.range_scale_sigma > 0.0) {
-    Matrix3d information = Matrix3d::Zero();
-    Vector3d weighted = Vector3d::Zero();
-    for (const Term& term : terms) {
-      information += term.weight;
-      weighted += term.weight * term.corrected;
-    }
-    common_position = information.llt().solve(weighted);
-  }
+  // ε's column from the measurements' weighted mean S⁻¹ y, common to them all (offset_jacobian): from
+  // each measurement itself, one ε for every view with t_u = ε s_u would shrink every difference by
+  // (1 − ε) and the views' noise pass for offsets (on ETH/UCY the per-scene κ̂ ran to 2¹⁰: design §1.7).
+  const bool range_scales = prior_.range_scale_sigma > 0.0;
+  const Vector3d common_position = range_scales ? Vector3d(s.llt().solve(y)) : Vector3d::Zero();
   for (std::size_t k = 0; k < measurements.size(); ++k) {
     const Measurement& measurement = *measurements[k];
     const ViewBlocks* view = terms[k].view;
-    const Vector3d& z = measurement.position.mean();
     Term& term = terms[k];
-    term.h = prior_.range_scale_sigma > 0.0 ? offset_jacobian(measurement, common_position) : offset_jacobian(measurement);
+    term.h = range_scales ? offset_jacobian(measurement, common_position) : offset_jacobian(measurement);
     for (const OffsetBlock& block : view->blocks) {
       const BlockColumns g = term.h * block.basis;
       const auto same = std::find_if(segments.begin(), segments.end(),
@@ -492,8 +485,6 @@ void JointRegistration::observe_differences(std::span<const Measurement* const> 
       }
       if (block.start + g.cols() <= estimate.size()) term.corrected.noalias() -= g * estimate.segment(block.start, g.cols());
     }
-    s += term.weight;
-    y.noalias() += term.weight * z;
     corrected_sum.noalias() += term.weight * term.corrected;
   }
   const Cholesky3 s_factor(s);
