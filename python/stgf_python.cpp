@@ -211,7 +211,7 @@ class Filter {
     const OffsetVector offset = filter_->registration_offset(view);
     Array out(py::ssize_t{kOffsetSize});  // (t, δ, ε)
     for (int k = 0; k < kOffsetSize; ++k) out.mutable_at(k) = offset(k);
-    return std::move(out);
+    return out;
   }
 
   std::size_t late_measurements() const { return filter_->late_measurements(); }

@@ -1,9 +1,7 @@
 // SPDX-License-Identifier: Apache-2.0
 #include "stgf/core/process_noise_pool.hpp"
 
-#include <stdexcept>
-
-#include "stgf/core/scene_epochs.hpp"
+#include <utility>
 
 namespace stgf {
 namespace {
@@ -23,30 +21,17 @@ void ProcessNoiseEvidence::add(const ProcessNoiseEvidence& other) {
 }
 
 void ProcessNoisePool::add(std::size_t scene_index, const ProcessNoiseEvidence& evidence) {
-  const std::size_t epoch = scene_epoch(scene_index);
-  if (epoch < pending_epoch_) throw std::logic_error("ProcessNoisePool::add: scenes out of list order");
-  if (epoch > pending_epoch_) {
-    committed_.add(pending_);
-    committed_scenes_ += pending_scenes_;
-    pending_ = ProcessNoiseEvidence{};
-    pending_scenes_ = 0;
-    pending_epoch_ = epoch;
-  }
-  pending_.add(evidence);
-  ++pending_scenes_;
+  sums_.add_scene(scene_index).add(evidence);
 }
 
 std::optional<ProcessNoiseEvidence> ProcessNoisePool::evidence_for(std::size_t scene_index) const {
-  const bool with_pending = pending_epoch_ < scene_epoch(scene_index);
-  if (committed_scenes_ + (with_pending ? pending_scenes_ : 0) == 0) return std::nullopt;
-  ProcessNoiseEvidence sum = committed_;
-  if (with_pending) sum.add(pending_);
-  return sum;
+  auto before = sums_.before(scene_index);
+  if (before.scenes == 0) return std::nullopt;
+  return std::move(before.evidence);
 }
 
 ProcessNoisePool::Scales ProcessNoisePool::scales() const {
-  ProcessNoiseEvidence sum = committed_;
-  sum.add(pending_);
+  const ProcessNoiseEvidence sum = sums_.all().evidence;
   const auto of = [](const ProcessNoiseScale::Grid& grid) -> std::optional<Vector3d> {
     for (const auto& axis : grid) {
       for (const double value : axis) {

@@ -21,6 +21,7 @@
 #include <optional>
 
 #include "stgf/core/process_noise_scale.hpp"
+#include "stgf/core/scene_epochs.hpp"
 
 namespace stgf {
 
@@ -47,9 +48,7 @@ class ProcessNoisePool {
   Scales scales() const;
 
  private:
-  ProcessNoiseEvidence committed_, pending_;  // epochs before pending_epoch_, and pending_epoch_ so far
-  std::size_t committed_scenes_ = 0, pending_scenes_ = 0;
-  std::size_t pending_epoch_ = 0;
+  EpochSums<ProcessNoiseEvidence> sums_;
 };
 
 }  // namespace stgf

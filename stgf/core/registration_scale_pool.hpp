@@ -23,6 +23,7 @@
 #include <vector>
 
 #include "stgf/core/registration_prior_scale.hpp"
+#include "stgf/core/scene_epochs.hpp"
 
 namespace stgf {
 
@@ -54,13 +55,13 @@ class RegistrationScalePool {
  private:
   static constexpr int kScaleSpan = kScaleIndices + 2 * kUnitScale;  // k + k* − 40 ∈ [−40, 120]
   static constexpr int kRatioSpan = kRatioIndices + 2 * kUnitRatio;  // r + r* − 8 ∈ [−8, 24]
-  struct Sum {
+  // The scenes' shifted grids summed, and at each point how many of them cover it.
+  struct Evidence {
     std::vector<double> log_likelihood = std::vector<double>(kScaleSpan * kRatioSpan, 0.0);
     std::vector<std::size_t> covered = std::vector<std::size_t>(kScaleSpan * kRatioSpan, 0);
-    std::size_t scenes = 0;
+    void add(const Evidence& other);
   };
-  Sum committed_, pending_;  // epochs before pending_epoch_, and pending_epoch_ so far
-  std::size_t pending_epoch_ = 0;
+  EpochSums<Evidence> sums_;
 };
 
 }  // namespace stgf
