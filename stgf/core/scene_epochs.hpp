@@ -63,9 +63,12 @@ class EpochSums {
     std::size_t scenes = 0;
   };
   // The sum over the scenes of the epochs before that of `scene_index`: what that scene starts from.
+  // Asked in list order too: for a scene of an epoch already committed that sum is gone.
   Sum before(std::size_t scene_index) const {
+    const std::size_t epoch = scene_epoch(scene_index);
+    if (epoch < pending_epoch_) throw std::logic_error("EpochSums::before: a scene of an epoch already committed");
     // The pending epoch is complete once a scene of a later one runs.
-    return pending_epoch_ < scene_epoch(scene_index) ? all() : Sum{committed_, committed_scenes_};
+    return pending_epoch_ < epoch ? all() : Sum{committed_, committed_scenes_};
   }
   // The sum over every scene added so far.
   Sum all() const {
