@@ -216,6 +216,7 @@ class Filter {
 
   std::size_t late_measurements() const { return filter_->late_measurements(); }
   std::size_t rewinds() const { return filter_->rewinds(); }
+  std::size_t late_rows() const { return filter_->late_rows(); }
   std::size_t refilters() const { return filter_->refilters(); }
   std::size_t restarted_tracks() const { return filter_->restarted_tracks(); }
   // Which motion the tracks follow (design §1.13): "model" or "constant-velocity".
@@ -273,6 +274,7 @@ py::dict run(const std::string& method, const py::object& scene, const Array& ti
   py::dict out = estimates_to_dict(estimates);
   py::dict counts;
   counts["restarted_tracks"] = report.restarted_tracks;
+  counts["late_rows"] = report.late_rows;
   counts["rewinds"] = report.rewinds;
   counts["refilters"] = report.gating.refilters;
   counts["late_measurements"] = report.late_measurements;
@@ -471,7 +473,9 @@ PYBIND11_MODULE(_stgf, m) {
       .def_property_readonly("registration_prior_scales", &Filter::registration_prior_scales,
                              "(κ_t, κ_n): the registration prior's learned scales on the translation and on the offset in units of the noise (1 until learned)")
       .def_property_readonly("late_measurements", &Filter::late_measurements)
-      .def_property_readonly("rewinds", &Filter::rewinds)
+      .def_property_readonly("rewinds", &Filter::rewinds, "times the filter went back for late rows")
+      .def_property_readonly("late_rows", &Filter::late_rows,
+                             "rows fused in their place in time though a later time had been processed when they came")
       .def_property_readonly("refilters", &Filter::refilters)
       .def_property_readonly("restarted_tracks", &Filter::restarted_tracks)
       .def_property_readonly("motion", &Filter::motion)

@@ -149,10 +149,10 @@ void log_method_report(const std::string& method, const MethodConfig& config, co
                                                    : RegistrationPrior{},
                                   config.ours.registration_scale_across_scenes);
   }
-  if (report.rewinds > 0) {
+  if (report.late_rows > 0) {
     spdlog::info("{}: {} late row(s) fused in their place in time (arrived after later ones, within the lag window "
-                 "of {} s)",
-                 method, report.rewinds, config.ours.lag_window);
+                 "of {} s; the scenes went back {} time(s) for them)",
+                 method, report.late_rows, config.ours.lag_window, report.rewinds);
   }
   if (report.late_measurements > 0) {
     spdlog::warn("{}: {} row(s) arrived more than the lag window of {} s late and were left out of the fusion "

@@ -55,7 +55,8 @@ def run(method, measurements, model=None, config=None):
     what sttp, ours-l and ours run; without one, ours and ours-l use the general model shipped with
     stgf (general_model(), models/README.md) and sttp is an error; ``config`` is the path of a YAML method settings file.
     Returns a dict: ``mean`` (n, 3), ``covariance`` (n, 3, 3), one per measurement in order, and
-    ``report`` (restarted tracks, rewinds and late measurements left out, as the CLI logs them).
+    ``report`` (restarted tracks, late rows fused in their place and the rewinds they took, late
+    measurements left out, as the CLI logs them).
     """
     if isinstance(measurements, str):
         measurements = read_measurements(measurements)

@@ -64,6 +64,8 @@ class TestFilter(unittest.TestCase):
         # The late message is fused in its place in time (one more rewind), none is left out, and
         # the end state is the in-order one.
         self.assertGreater(late.rewinds, in_order.rewinds)
+        # Rows 5 and 4 came after row 6, of a later time.
+        self.assertEqual((in_order.late_rows, late.late_rows), (0, 2))
         self.assertEqual(late.late_measurements, 0)
         np.testing.assert_allclose(got["mean"], expected["mean"], atol=1e-9)
         np.testing.assert_allclose(got["covariance"], expected["covariance"], atol=1e-12)

@@ -118,7 +118,8 @@ SceneFilter::SceneFilter(const MotionPredictor& predictor, const FilterOptions& 
              .coasting_predictions = 0,
              .gate_restarts = 0,
              .applied_releases = {}},
-      latest_time_(-std::numeric_limits<double>::infinity()) {
+      latest_time_(-std::numeric_limits<double>::infinity()),
+      reached_time_(-std::numeric_limits<double>::infinity()) {
   if (!std::isfinite(options.lag_window) || options.lag_window < 0.0) {
     throw std::invalid_argument("the lag window must be finite and >= 0 seconds");
   }
@@ -134,8 +135,8 @@ void SceneFilter::receive(std::span<const Measurement* const> measurements, std:
   if (measurements.size() != ids.size()) throw std::invalid_argument("SceneFilter::receive needs one id per measurement");
   // Too late: older than the window (or, without a window, not after the latest time).
   const auto too_late = [&](double time) {
-    return options_.lag_window > 0.0 ? time < latest_time_ - options_.lag_window
-                                     : time <= latest_time_ + kSameStepTolerance;
+    return options_.lag_window > 0.0 ? time < reached_time_ - options_.lag_window
+                                     : time <= reached_time_ + kSameStepTolerance;
   };
   for (std::size_t k = 0; k < measurements.size(); ++k) {
     const Measurement& measurement = *measurements[k];
@@ -145,7 +146,7 @@ void SceneFilter::receive(std::span<const Measurement* const> measurements, std:
     }
     if (too_late(measurement.time) && options_.late == LatePolicy::kStop) {
       throw LateMeasurementError(ids[k], "measured at t = " + seconds(measurement.time) +
-                                             " s, it arrived after the scene had reached t = " + seconds(latest_time_) +
+                                             " s, it arrived after the scene had reached t = " + seconds(reached_time_) +
                                              " s: later than the lag window of " + seconds(options_.lag_window) +
                                              " s allows");
     }
@@ -203,9 +204,16 @@ void SceneFilter::receive(std::span<const Measurement* const> measurements, std:
     }
   }
   for (std::size_t k = 0; k < measurements.size(); ++k) {
-    if (too_late(measurements[k]->time)) leave_out(*measurements[k], ids[k]);
+    if (too_late(measurements[k]->time)) {
+      leave_out(*measurements[k], ids[k]);
+    } else if (measurements[k]->time < reached_time_ - kSameStepTolerance) {
+      ++late_rows_;
+    }
   }
-  for (Event& event : events) insert(std::move(event));
+  for (Event& event : events) {
+    unreported_ += event.rows.size();
+    insert(std::move(event));
+  }
 }
 
 void SceneFilter::leave_out(const Measurement& measurement, std::size_t id) {
@@ -255,9 +263,10 @@ void SceneFilter::rewind_to(double time) {
   for (const auto& [view, scale] : presumed_noise_scales_) state_.view_noise.presume(view, scale);
 }
 
-bool SceneFilter::advance() {
+bool SceneFilter::advance(Advance how) {
   if (!request_.empty()) throw std::logic_error("SceneFilter::advance before the requested forecasts were provided");
   while (!queue_.empty()) {
+    if (how == Advance::kUntilReported && unreported_ == 0) break;
     Event& event = queue_.front();
     if (!event.started) start(event);
     if (request_forecasts(event)) return false;
@@ -274,6 +283,7 @@ bool SceneFilter::advance() {
       continue;
     }
     latest_time_ = std::max(latest_time_, event.time);
+    reached_time_ = std::max(reached_time_, latest_time_);
     if (options_.lag_window > 0.0) log_.push_back(std::move(event));
     queue_.pop_front();
     prune();
@@ -675,6 +685,7 @@ void SceneFilter::report(Event& event, std::size_t first, std::size_t end, const
     if (options_.report_predictions && prediction && !shared) shared = std::make_shared<const TrackPrediction>(*prediction);
     results_.push_back(Result{row.id, estimate, shared, gated[k - first]});
     row.reported = true;
+    --unreported_;
   }
 }
 

@@ -71,8 +71,11 @@
 // separate calls are one multi-view update. The result is exactly that of in-order delivery. Re-processed
 // measurements do not report again: a measurement's estimate is what the filter knew of its object at
 // its time when it was first processed, the answer a live user had. A measurement older than the
-// window is too late: counted, and either left out (its estimate is its own combined measurement, and
-// it changes nothing) or reported by LateMeasurementError (LatePolicy). lag_window = 0 keeps no
+// window is too late: counted, and either left out (its estimate is its own combined measurement,
+// corrected by the offsets as last processed, and it changes nothing) or reported by
+// LateMeasurementError (LatePolicy). A caller that advances only until every row has reported
+// (Advance::kUntilReported) lets the re-processing wait until a later row needs it: a burst of late
+// rows in time order then goes back once, not once per row. lag_window = 0 keeps no
 // checkpoints and treats any time at or before t* as too late.
 //
 // ── Cost ─────────────────────────────────────────────────────────────────────────────────────────
@@ -160,9 +163,18 @@ class SceneFilter {
   // The filter keeps copies of what it needs.
   void receive(std::span<const Measurement* const> measurements, std::span<const std::size_t> ids);
 
+  // How far advance() goes: through every queued event (the state then holds all that was received),
+  // or only until every measurement received has its estimate. A late measurement sends the events
+  // after it back to be processed again; the second way leaves those after the last measurement still
+  // waiting for its estimate queued, so that the next late one, if no earlier, goes on from there
+  // instead of going back again. Estimates are the same either way (but where the gate's
+  // re-filtering goes back to the window's oldest checkpoint, which the two ways may have pruned
+  // differently); the state's accessors below describe what has been processed, so a caller that
+  // reads them, or has nothing more to give, advances through everything.
+  enum class Advance { kThroughEverything, kUntilReported };
   // Processes queued events until done (true) or a forecast is needed (false: forecast_request()
-  // lists the graphs; provide_forecasts() answers them, then advance() again).
-  bool advance();
+  // lists the graphs; provide_forecasts() answers them, then advance() again, the same way).
+  bool advance(Advance how = Advance::kThroughEverything);
   const std::vector<MotionGraph>& forecast_request() const { return request_; }
   void provide_forecasts(const std::vector<std::vector<MotionForecast>>& forecasts);
 
@@ -185,6 +197,9 @@ class SceneFilter {
   std::size_t coasting_predictions() const { return state_.coasting_predictions; }
   std::size_t late_measurements() const { return late_measurements_; }  // too late for the window
   std::size_t rewinds() const { return rewinds_; }                      // went back for a late measurement
+  // Rows fused in their place in time though a later time had been processed when they came (one
+  // that joins a time already processed goes back too, but is not late).
+  std::size_t late_rows() const { return late_rows_; }
   std::size_t refilters() const { return refilters_; }  // went back for a view's understated noise or jump
   // What the gate did (measurement_gate.hpp, view_noise_scales.hpp), and the tracks it restarted
   // (counted in restarted_tracks() too).
@@ -308,7 +323,9 @@ class SceneFilter {
   std::deque<Event> queue_;   // to process, time order
   std::deque<Event> log_;     // processed, time order, back to the oldest checkpoint
   std::deque<Checkpoint> checkpoints_;  // time order
-  double latest_time_;
+  double latest_time_;   // of the last event processed (back to the log's end on going back)
+  double reached_time_;  // the latest event time ever processed: what "too late" is measured from
+  std::size_t unreported_ = 0;  // rows received (not left out) that have not reported yet
   std::vector<MotionGraph> request_;
   std::vector<std::vector<ObjectTrack*>> request_tracks_;  // of request_'s objects (the state is not changed meanwhile)
   // A closing frame's measurements, aligned (frame_alignment.hpp): lists kept for their room.
@@ -321,6 +338,7 @@ class SceneFilter {
   std::vector<Result> results_;
   std::size_t late_measurements_ = 0;
   std::size_t rewinds_ = 0;
+  std::size_t late_rows_ = 0;
   NameIndex object_names_, view_names_;  // receive()'s ordering of rows by name
   // The gate's re-filtering (learn_view_noise): the noise scale each view is presumed to have from
   // the start of the window, whatever the state restored; whether to go back once the event is done;

@@ -86,7 +86,11 @@ void run_block(const MotionPredictor& predictor, const FilterOptions& options, s
     std::vector<MotionGraph> graphs;
     for (SceneRun& scene : block) {
       for (;;) {
-        const bool done = scene.filter->advance();
+        // Until its last delivery a scene only needs each row's estimate: what a late row sends back
+        // to be processed again waits for the rows after it (SceneFilter::Advance).
+        const bool done = scene.filter->advance(scene.next == scene.deliveries.size()
+                                                    ? SceneFilter::Advance::kThroughEverything
+                                                    : SceneFilter::Advance::kUntilReported);
         collect(*scene.filter, results, estimated, run, keep_predictions);
         if (!done) {
           waiting.push_back(&scene);
@@ -133,6 +137,7 @@ void run_block(const MotionPredictor& predictor, const FilterOptions& options, s
     run.restarted_tracks += scene.filter->restarted_tracks();
     run.coasting_predictions += scene.filter->coasting_predictions();
     run.late_measurements += scene.filter->late_measurements();
+    run.late_rows += scene.filter->late_rows();
     run.rewinds += scene.filter->rewinds();
     run.gating.add(scene.name, scene.filter->view_noise_scales());
     run.gating.restarts += scene.filter->gate_restarts();

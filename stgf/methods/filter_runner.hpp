@@ -44,7 +44,8 @@ struct FilterRun {
   std::size_t restarted_tracks = 0;    // summed over the scenes
   std::size_t coasting_predictions = 0;  // by constant velocity beyond the model's horizon (ObjectTrack::coasts_to)
   std::size_t late_measurements = 0;   // too late for the lag window
-  std::size_t rewinds = 0;             // late rows fused in their place in time
+  std::size_t late_rows = 0;           // late rows fused in their place in time
+  std::size_t rewinds = 0;             // times a scene went back for them
   GatingSummary gating;                // what the gate did (its restarts are in restarted_tracks too)
   // The registration prior's learned scales κ̂_t, κ̂_n (registration_prior_scale.hpp) of each scene
   // that had enough same-time disagreement to learn them, and how many had not (they kept κ = 1);

@@ -51,6 +51,7 @@ class SpatiotemporalGraphFilter final : public Localizer {
   std::size_t restarted_tracks() const { return filter_.restarted_tracks(); }
   std::size_t late_measurements() const { return filter_.late_measurements(); }
   std::size_t rewinds() const { return filter_.rewinds(); }  // went back in time for a late measurement
+  std::size_t late_rows() const { return filter_.late_rows(); }  // SceneFilter::late_rows
   std::size_t refilters() const { return filter_.refilters(); }  // went back for what the gate learnt of a view
   const Vector3d& process_noise_scales() const { return filter_.process_noise_scales(); }
   const Vector3d& coasting_noise_scales() const { return filter_.coasting_noise_scales(); }

@@ -51,6 +51,7 @@ bool learns_process_noise_across_scenes(const OursSettings& settings, const nloh
 void MethodRunReport::add(const MethodRunReport& later) {
   restarted_tracks += later.restarted_tracks;
   coasting_predictions += later.coasting_predictions;
+  late_rows += later.late_rows;
   rewinds += later.rewinds;
   late_measurements += later.late_measurements;
   registration_missing = registration_missing || later.registration_missing;
@@ -101,6 +102,7 @@ std::vector<Gaussian3> NamedMethodRun::add(std::span<const Measurement> rows) {
   scenes_ += run.scenes;
   part.restarted_tracks = run.restarted_tracks;
   part.coasting_predictions = run.coasting_predictions;
+  part.late_rows = run.late_rows;
   part.rewinds = run.rewinds;
   part.late_measurements = run.late_measurements;
   part.gating = std::move(run.gating);

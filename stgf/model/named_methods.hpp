@@ -42,7 +42,8 @@ bool learns_process_noise_across_scenes(const OursSettings& settings, const nloh
 struct MethodRunReport {
   std::size_t restarted_tracks = 0;   // a track unseen for longer than the model's horizon started again
   std::size_t coasting_predictions = 0;  // by constant velocity, beyond the model's horizon
-  std::size_t rewinds = 0;            // late rows fused in their place in time
+  std::size_t late_rows = 0;          // late rows fused in their place in time
+  std::size_t rewinds = 0;            // times a scene went back for them
   std::size_t late_measurements = 0;  // rows later than the lag window, left out of the fusion
   bool registration_missing = false;  // the model holds no registration calibration (offsets taken as zero)
   GatingSummary gating;               // what the χ² gate did (its restarts are in restarted_tracks too)
