@@ -24,7 +24,8 @@ constexpr double kLowMedian = 0.5, kHighMedian = 2.0, kLowTenth = 0.2, kHighNine
 // κ̂_t and κ̂_n over the scenes (registration_prior_scale.hpp): how far the views' offsets were from the
 // size the model's calibration expects, and, when the prior in use does not fit, a bound to set it to.
 void log_registration_prior_scales(const std::string& method, const std::vector<RegistrationPriorScales>& learned,
-                                   std::size_t without, const RegistrationPrior& prior, bool across_scenes) {
+                                   std::size_t without, const RegistrationPrior& prior,
+                                   RegistrationScaleLearning learning) {
   if (!learned.empty()) {
     std::vector<double> translation, noise_ratio;
     for (const RegistrationPriorScales& scales : learned) {
@@ -41,7 +42,12 @@ void log_registration_prior_scales(const std::string& method, const std::vector<
     };
     spdlog::info("{}: registration prior scaled {} from the views' disagreements over {} scene(s): translation "
                  "κ_t {}, offset in units of the noise κ_n {}; the offsets' σ is √κ times the model's calibration",
-                 method, across_scenes ? "across scenes" : "per scene", learned.size(), quantiles(translation),
+                 method,
+                 learning == RegistrationScaleLearning::kAcrossScenes ? "across scenes"
+                 : learning == RegistrationScaleLearning::kPerScene
+                     ? "per scene"
+                     : "per scene (each from the run's scales where these are below the calibration's)",
+                 learned.size(), quantiles(translation),
                  quantiles(noise_ratio));
     // Each scene's scales are held near 1 by its prior; many scenes far from 1 in one direction say
     // that the prior itself is off for these sensors.
@@ -74,10 +80,16 @@ void log_registration_prior_scales(const std::string& method, const std::vector<
       spdlog::info("{}: these views' offsets do not fit the registration prior in use: {} If you know your "
                    "sensors' registration error, set it under `ours:` in --config; these scenes suggest {}",
                    method,
-                   across_scenes ? "the first 16 scenes learn their own scale, within a few times of the prior's "
-                                   "(the rest take the scenes' before them)."
-                                 : "each scene learns its own scale, but only within a few times of the prior's, and "
-                                   "a short scene less (`registration_prior_scale: across-scenes` pools the scenes).",
+                   learning == RegistrationScaleLearning::kAcrossScenes
+                       ? "the first 16 scenes learn their own scale, within a few times of the prior's (the rest take "
+                         "the scenes' before them)."
+                   : learning == RegistrationScaleLearning::kPerScene
+                       ? "each scene learns its own scale, but only within a few times of the prior's, and a short "
+                         "scene less (`registration_prior_scale: shrink-across-scenes` or `across-scenes` pools the "
+                         "scenes)."
+                       : "each scene learns its own scale within a few times of where it starts, and a short scene "
+                         "less; the run's scenes together lower that start where they show smaller offsets than the "
+                         "calibration, never raise it (`registration_prior_scale: across-scenes` would).",
                    suggestion);
     }
   }
@@ -147,7 +159,7 @@ void log_method_report(const std::string& method, const MethodConfig& config, co
     log_registration_prior_scales(method, report.registration_prior_scales, report.scenes_without_prior_scale,
                                   model != nullptr ? resolve_registration_prior(config.ours, model->metadata(), model_path)
                                                    : RegistrationPrior{},
-                                  config.ours.registration_scale_across_scenes);
+                                  config.ours.registration_scale_learning);
   }
   if (report.late_rows > 0) {
     spdlog::info("{}: {} late row(s) fused in their place in time (arrived after later ones, within the lag window "

@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: Apache-2.0
 #include "stgf/core/registration_scale_pool.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <stdexcept>
@@ -10,6 +11,17 @@ namespace stgf {
 RegistrationPriorScales RegistrationScalePool::Point::scales() const {
   const double translation = std::exp2(0.25 * scale - 10.0);
   return {translation, translation * std::exp2(ratio - kUnitRatio)};
+}
+
+RegistrationScalePool::Point RegistrationScalePool::Point::lowered_to_unit() const {
+  const int lowered_scale = std::min(scale, kUnitScale);
+  // log2 κ_n = (scale / 4 − 10) + (ratio − 8); the ratio that takes it to min(κ_n, 1) from κ_t'.
+  const double log2_noise_ratio = std::min(0.0, 0.25 * scale - 10.0 + (ratio - kUnitRatio));
+  const double log2_ratio = log2_noise_ratio - (0.25 * lowered_scale - 10.0);
+  // Rounded down: at most 1 (κ_t' = 1 at a scale not a multiple of 4 leaves a fraction).
+  const int lowered_ratio =
+      std::clamp(static_cast<int>(std::floor(log2_ratio + 1e-9)) + kUnitRatio, 0, kRatioIndices - 1);
+  return {lowered_scale, lowered_ratio};
 }
 
 void RegistrationScalePool::add(std::size_t scene_index, std::span<const double> grid, Point applied) {
@@ -53,6 +65,7 @@ std::optional<RegistrationScalePool::Point> RegistrationScalePool::estimate_for(
       }
     }
   }
+  if (best && use_ == Use::kLowerOnly) best = best->lowered_to_unit();
   return best;
 }
 

@@ -16,6 +16,19 @@
 // Assumption: every scene's views share the two sizes of offset (as registration_prior_scale.hpp);
 // with the model fitting the sensors (on cameras, with the range scale: design §1.7) the summed
 // likelihood peaks at their true size.
+//
+// Use. Held (`registration_prior_scale: across-scenes`), a scene runs with the prior scaled by the
+// estimate and learns nothing of its own. Lowered only (`shrink-across-scenes`, the default), each
+// scale is taken to the estimate only where that is below the calibration's (κ = 1), and the scene
+// learns its own scales from there as before. Why only down: where the offsets do not fit the model
+// (a camera's height error moves ground points along the ray in proportion to range, which a model
+// without the range scale lacks; δ along the rays and ε, which the disagreements cannot tell apart),
+// the misfit makes the views disagree more than the modelled offsets explain, and the summed
+// evidence of a thousand scenes then widens the prior far beyond the offsets' size (design §1.7:
+// the camera proxies, NEES 0.5–0.9). A misfit cannot make views agree better than their offsets
+// allow, so an estimate below the calibration is the sensors' own: better registered than the
+// training data (no GPS error, a finer calibration), which a short scene, held near 1 by its prior,
+// cannot show alone.
 
 #include <cstddef>
 #include <optional>
@@ -29,6 +42,10 @@ namespace stgf {
 
 class RegistrationScalePool {
  public:
+  enum class Use { kHold, kLowerOnly };
+  explicit RegistrationScalePool(Use use = Use::kHold) : use_(use) {}
+  Use use() const { return use_; }
+
   // The estimate is the summed likelihood's maximum, with no prior, and a scene is held at it: over
   // fewer scenes than this it is too rough for that (on cad val with a model of pedestrians, held at
   // the estimates of 1, 2, 4 and 8 scenes: DE 0.91 m, against 0.52 m learning per scene until 16).
@@ -43,13 +60,17 @@ class RegistrationScalePool {
     int scale = kUnitScale;
     int ratio = kUnitRatio;
     RegistrationPriorScales scales() const;
+    // The point with each scale lowered to at most 1: κ_t' = min(κ_t, 1), and κ_n' = min(κ_n, 1)
+    // rounded down to the ratios' grid (exact where κ_t ≤ 1; else at most a factor 2^¾ below).
+    Point lowered_to_unit() const;
   };
 
   // Adds the grid (kRatioIndices × kScaleIndices, ratio-major) of the scene at `scene_index` in the
   // list, which ran with the prior scaled by `applied`. Scenes must come in list order of epochs.
   void add(std::size_t scene_index, std::span<const double> grid, Point applied);
   // The scales for the scene at `scene_index`: the argmax over the scenes of the epochs before its
-  // own; none while they are fewer than kFewestScenes (counting those with disagreements only).
+  // own (Use::kLowerOnly: lowered_to_unit of it); none while they are fewer than kFewestScenes
+  // (counting those with disagreements only).
   std::optional<Point> estimate_for(std::size_t scene_index) const;
 
  private:
@@ -61,6 +82,7 @@ class RegistrationScalePool {
     std::vector<std::size_t> covered = std::vector<std::size_t>(kScaleSpan * kRatioSpan, 0);
     void add(const Evidence& other);
   };
+  Use use_;
   EpochSums<Evidence> sums_;
 };
 

@@ -176,8 +176,10 @@ void read_ours(const std::string& path, const YAML::Node& node, OursSettings& se
     } else if (key == "registration_noise_ratio") {
       settings.noise_ratio = one_or_three_non_negative(path, name, entry.second, "along, across, vertical");
     } else if (key == "registration_prior_scale") {
-      settings.registration_scale_across_scenes =
-          one_of(path, name, entry.second, {"per-scene", "across-scenes"}) == "across-scenes";
+      const std::string where = one_of(path, name, entry.second, {"per-scene", "across-scenes", "shrink-across-scenes"});
+      settings.registration_scale_learning = where == "per-scene"       ? RegistrationScaleLearning::kPerScene
+                                             : where == "across-scenes" ? RegistrationScaleLearning::kAcrossScenes
+                                                                        : RegistrationScaleLearning::kShrinkAcrossScenes;
     } else if (key == "process_noise_scale") {
       const std::string where = one_of(path, name, entry.second, {"auto", "per-scene", "across-scenes"});
       settings.process_noise_scale_across_scenes =

@@ -144,10 +144,15 @@ void run_block(const MotionPredictor& predictor, const FilterOptions& options, s
     run.gating.refilters += scene.filter->refilters();
     run.motion_choice.add(scene.filter->motion_choice());
     if (options.adapt_registration_prior && !options.registration.is_zero() && options.tracks == TrackMode::kPerObject) {
-      if (pooled.applied) {
-        run.registration_prior_scales.push_back(pooled.applied->scales());
-      } else if (scene.filter->registration_prior_scale_learned()) {
-        run.registration_prior_scales.push_back(scene.filter->registration_prior_scales());
+      // The scales relative to the model's calibration: the run's, times the scene's own on top.
+      const RegistrationPriorScales applied = pooled.applied ? pooled.applied->scales() : RegistrationPriorScales{};
+      const bool learned = scene.filter->registration_prior_scale_learned();
+      if (pooled.applied && (options.hold_registration_prior_scale || !learned)) {
+        run.registration_prior_scales.push_back(applied);
+      } else if (learned) {
+        const RegistrationPriorScales own = scene.filter->registration_prior_scales();
+        run.registration_prior_scales.push_back(
+            {applied.translation * own.translation, applied.noise_ratio * own.noise_ratio});
       } else {
         ++run.scenes_without_prior_scale;
       }
@@ -208,7 +213,8 @@ FilterRun run_spatiotemporal_graph_filter(const MotionPredictor& predictor, cons
         prior.translation_sigma *= std::sqrt(scales.translation);
         prior.noise_ratio *= std::sqrt(scales.noise_ratio);
         prior.range_scale_sigma *= std::sqrt(scales.noise_ratio);
-        block_options.hold_registration_prior_scale = true;
+        // Held at the run's scales, or (lowered only) learning the scene's own from them.
+        block_options.hold_registration_prior_scale = pools.registration->use() == RegistrationScalePool::Use::kHold;
       }
     }
     run_block(predictor, block_options, measurements, std::span(scenes).subspan(first, count), by_arrival, estimated,

@@ -76,7 +76,13 @@ std::vector<Gaussian3> run_named_method(const std::string& method, const MethodC
 
 NamedMethodRun::NamedMethodRun(const std::string& method, const MethodConfig& config, const TrainedMotionModel* model,
                                const std::string& model_path)
-    : method_(method), config_(config), model_(model), model_path_(model_path) {
+    : method_(method),
+      config_(config),
+      model_(model),
+      model_path_(model_path),
+      registration_scales_(config.ours.registration_scale_learning == RegistrationScaleLearning::kAcrossScenes
+                               ? RegistrationScalePool::Use::kHold
+                               : RegistrationScalePool::Use::kLowerOnly) {
   if (is_learned_method(method_) && model_ == nullptr) throw std::invalid_argument("--method " + method_ + " needs --model");
   if (method_ == "sttp") single_view_ = std::make_unique<SingleViewPredictionStream>(*model_);
 }
@@ -95,7 +101,9 @@ std::vector<Gaussian3> NamedMethodRun::add(std::span<const Measurement> rows) {
   const FilterOptions options = filter_options_for(config_.ours, model_->metadata(), model_path_, &part.registration_missing);
   const bool prediction_only = method_ == "ours-l";
   const ScenePools pools{
-      .registration = config_.ours.registration_scale_across_scenes ? &registration_scales_ : nullptr,
+      .registration = config_.ours.registration_scale_learning != RegistrationScaleLearning::kPerScene
+                          ? &registration_scales_
+                          : nullptr,
       .process_noise =
           learns_process_noise_across_scenes(config_.ours, model_->metadata()) ? &process_noise_scales_ : nullptr};
   FilterRun run = run_spatiotemporal_graph_filter(*model_, options, rows, /*keep_predictions=*/prediction_only, pools, scenes_);

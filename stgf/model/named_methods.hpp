@@ -97,7 +97,7 @@ class NamedMethodRun {
   std::unique_ptr<SingleViewPredictionStream> single_view_;  // sttp
   MethodRunReport report_;
   // ours: the registration prior's and Q's scales across the run's scenes (OursSettings::
-  // registration_scale_across_scenes, process_noise_scale_across_scenes), and how many scenes came
+  // registration_scale_learning, process_noise_scale_across_scenes), and how many scenes came
   // before the next part.
   RegistrationScalePool registration_scales_;
   ProcessNoisePool process_noise_scales_;

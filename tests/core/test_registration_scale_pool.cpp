@@ -53,6 +53,28 @@ TEST(RegistrationScalePool, EstimatesFromTheEpochsBeforeAScenesOwn) {
   EXPECT_EQ(fewer.estimate_for(33)->scale, 60);
 }
 
+// Used to lower only (the default, `shrink-across-scenes`): a scale whose estimate is above the
+// calibration's (κ = 1) stays at 1, one below it is taken to the estimate.
+TEST(RegistrationScalePool, LowersOnlyWhenSoUsed) {
+  const auto pooled = [](int scale, int ratio) {
+    RegistrationScalePool pool(RegistrationScalePool::Use::kLowerOnly);
+    for (std::size_t scene = 0; scene < 16; ++scene) pool.add(scene, peaked_at(scale, ratio), Point{});
+    return *pool.estimate_for(16);
+  };
+  const auto expect_scales = [](Point point, double translation, double noise_ratio) {
+    EXPECT_NEAR(point.scales().translation, translation, 1e-12 * translation);
+    EXPECT_NEAR(point.scales().noise_ratio, noise_ratio, 1e-12 * noise_ratio);
+  };
+  expect_scales(pooled(60, 8), 1.0, 1.0);                   // κ_t = κ_n = 32: both stay at 1
+  expect_scales(pooled(20, 12), 1.0 / 32.0, 0.5);            // both below 1: as estimated
+  expect_scales(pooled(20, 16), 1.0 / 32.0, 1.0);            // κ_n = 8 → 1
+  expect_scales(pooled(60, 0), 1.0, 1.0 / 8.0);              // κ_t = 32 → 1, κ_n = 1/8 kept
+  expect_scales(pooled(22, 16), std::exp2(-4.5), std::exp2(-0.5));  // κ_n = 2^3.5 → 1, rounded down to the grid
+  expect_scales(pooled(62, 0), 1.0, std::exp2(-3.0));  // κ_t = 2^5.5 → 1, κ_n = 2^-2.5 rounded down to the grid
+  EXPECT_EQ(RegistrationScalePool(RegistrationScalePool::Use::kLowerOnly).use(), RegistrationScalePool::Use::kLowerOnly);
+  EXPECT_EQ(RegistrationScalePool().use(), RegistrationScalePool::Use::kHold);
+}
+
 TEST(RegistrationScalePool, RefusesScenesOutOfOrderAndMalformedGrids) {
   RegistrationScalePool pool;
   pool.add(20, peaked_at(40, 8), Point{});
