@@ -159,7 +159,8 @@ void log_method_report(const std::string& method, const MethodConfig& config, co
     log_registration_prior_scales(method, report.registration_prior_scales, report.scenes_without_prior_scale,
                                   model != nullptr ? resolve_registration_prior(config.ours, model->metadata(), model_path)
                                                    : RegistrationPrior{},
-                                  config.ours.registration_scale_learning);
+                                  model != nullptr ? registration_scale_learning_for(config.ours, model->metadata())
+                                                   : RegistrationScaleLearning::kPerScene);
   }
   if (report.late_rows > 0) {
     spdlog::info("{}: {} late row(s) fused in their place in time (arrived after later ones, within the lag window "

@@ -176,10 +176,13 @@ void read_ours(const std::string& path, const YAML::Node& node, OursSettings& se
     } else if (key == "registration_noise_ratio") {
       settings.noise_ratio = one_or_three_non_negative(path, name, entry.second, "along, across, vertical");
     } else if (key == "registration_prior_scale") {
-      const std::string where = one_of(path, name, entry.second, {"per-scene", "across-scenes", "shrink-across-scenes"});
-      settings.registration_scale_learning = where == "per-scene"       ? RegistrationScaleLearning::kPerScene
-                                             : where == "across-scenes" ? RegistrationScaleLearning::kAcrossScenes
-                                                                        : RegistrationScaleLearning::kShrinkAcrossScenes;
+      const std::string where =
+          one_of(path, name, entry.second, {"auto", "per-scene", "across-scenes", "shrink-across-scenes"});
+      settings.registration_scale_learning =
+          where == "auto"            ? std::nullopt
+          : where == "per-scene"     ? std::optional(RegistrationScaleLearning::kPerScene)
+          : where == "across-scenes" ? std::optional(RegistrationScaleLearning::kAcrossScenes)
+                                     : std::optional(RegistrationScaleLearning::kShrinkAcrossScenes);
     } else if (key == "process_noise_scale") {
       const std::string where = one_of(path, name, entry.second, {"auto", "per-scene", "across-scenes"});
       settings.process_noise_scale_across_scenes =

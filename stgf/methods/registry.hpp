@@ -15,9 +15,9 @@
 namespace stgf {
 
 // Where `ours` learns the registration prior's scales κ_t, κ_n (core/registration_prior_scale.hpp):
-// each scene alone; the run's scenes pooled, every scene held at their estimate; or (the default) the
-// pool lowering a scale where its estimate is below the calibration's, each scene learning its own
-// from there (core/registration_scale_pool.hpp, design §1.7).
+// each scene alone; the run's scenes pooled, every scene held at their estimate; or the pool lowering
+// a scale where its estimate is below the calibration's, each scene learning its own from there
+// (core/registration_scale_pool.hpp, design §1.7).
 enum class RegistrationScaleLearning { kPerScene, kAcrossScenes, kShrinkAcrossScenes };
 
 // `ours`: how it accounts for the views' registration error (core/view_registration.hpp) and for a
@@ -33,7 +33,9 @@ struct OursSettings {
   std::optional<bool> process_noise_scale_across_scenes;
   MotionFallback motion_fallback = MotionFallback::kAuto;  // constant velocity where it predicts better
   bool adapt_registration_prior = true;       // scale the registration prior from the views' disagreements
-  RegistrationScaleLearning registration_scale_learning = RegistrationScaleLearning::kShrinkAcrossScenes;
+  // Unset (auto): kShrinkAcrossScenes for a model trained on several benchmarks, kPerScene for a model
+  // of one (registration_scale_learning_for).
+  std::optional<RegistrationScaleLearning> registration_scale_learning;
   bool per_view_tracks = false;               // the paper's per-view tracks instead of one per object
   double lag_window = 1.0;                    // s: how late a message may arrive and still be fused in place
   bool stop_on_late = false;                  // a message later than that: stop (true) or leave it out

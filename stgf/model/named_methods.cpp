@@ -42,10 +42,24 @@ FilterOptions filter_options_for(const OursSettings& settings, const nlohmann::j
   return options;
 }
 
-bool learns_process_noise_across_scenes(const OursSettings& settings, const nlohmann::json& metadata) {
-  if (settings.process_noise_scale_across_scenes) return *settings.process_noise_scale_across_scenes;
+namespace {
+
+bool trained_on_several_benchmarks(const nlohmann::json& metadata) {
   const auto benchmark = metadata.find("benchmark");
   return benchmark != metadata.end() && benchmark->is_array() && benchmark->size() > 1;
+}
+
+}  // namespace
+
+bool learns_process_noise_across_scenes(const OursSettings& settings, const nlohmann::json& metadata) {
+  if (settings.process_noise_scale_across_scenes) return *settings.process_noise_scale_across_scenes;
+  return trained_on_several_benchmarks(metadata);
+}
+
+RegistrationScaleLearning registration_scale_learning_for(const OursSettings& settings, const nlohmann::json& metadata) {
+  if (settings.registration_scale_learning) return *settings.registration_scale_learning;
+  return trained_on_several_benchmarks(metadata) ? RegistrationScaleLearning::kShrinkAcrossScenes
+                                                 : RegistrationScaleLearning::kPerScene;
 }
 
 void MethodRunReport::add(const MethodRunReport& later) {
@@ -80,7 +94,8 @@ NamedMethodRun::NamedMethodRun(const std::string& method, const MethodConfig& co
       config_(config),
       model_(model),
       model_path_(model_path),
-      registration_scales_(config.ours.registration_scale_learning == RegistrationScaleLearning::kAcrossScenes
+      registration_scales_(model != nullptr && registration_scale_learning_for(config.ours, model->metadata()) ==
+                                                       RegistrationScaleLearning::kAcrossScenes
                                ? RegistrationScalePool::Use::kHold
                                : RegistrationScalePool::Use::kLowerOnly) {
   if (is_learned_method(method_) && model_ == nullptr) throw std::invalid_argument("--method " + method_ + " needs --model");
@@ -101,9 +116,10 @@ std::vector<Gaussian3> NamedMethodRun::add(std::span<const Measurement> rows) {
   const FilterOptions options = filter_options_for(config_.ours, model_->metadata(), model_path_, &part.registration_missing);
   const bool prediction_only = method_ == "ours-l";
   const ScenePools pools{
-      .registration = config_.ours.registration_scale_learning != RegistrationScaleLearning::kPerScene
-                          ? &registration_scales_
-                          : nullptr,
+      .registration =
+          registration_scale_learning_for(config_.ours, model_->metadata()) != RegistrationScaleLearning::kPerScene
+              ? &registration_scales_
+              : nullptr,
       .process_noise =
           learns_process_noise_across_scenes(config_.ours, model_->metadata()) ? &process_noise_scales_ : nullptr};
   FilterRun run = run_spatiotemporal_graph_filter(*model_, options, rows, /*keep_predictions=*/prediction_only, pools, scenes_);

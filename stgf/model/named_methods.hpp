@@ -38,6 +38,12 @@ FilterOptions filter_options_for(const OursSettings& settings, const nlohmann::j
 // its calibrated Q, scaled per scene (design §1.2).
 bool learns_process_noise_across_scenes(const OursSettings& settings, const nlohmann::json& metadata);
 
+// Where `ours` learns the registration prior's scales: as set, or (auto) lowered across the run's
+// scenes for a model trained on several benchmarks, whose prior is a compromise between sensors
+// registered tens of times apart (cameras' centimetres, vehicles' GPS decimetres), and per scene for a
+// model of one, whose prior was calibrated on sensors like the data's (design §1.7).
+RegistrationScaleLearning registration_scale_learning_for(const OursSettings& settings, const nlohmann::json& metadata);
+
 // What a run did that its caller should tell the user about.
 struct MethodRunReport {
   std::size_t restarted_tracks = 0;   // a track unseen for longer than the model's horizon started again

@@ -131,7 +131,7 @@ TEST(MethodConfigFile, OursErrorsNameTheLine) {
   EXPECT_EQ(error_of("ours:\n  registration_noise_ratio: [0.3, -0.2, 0.1]\n"),
             "c.yaml:2: ours.registration_noise_ratio must be a finite number >= 0");
   EXPECT_EQ(error_of("ours:\n  registration_prior_scale: everywhere\n"),
-            "c.yaml:2: ours.registration_prior_scale must be per-scene, across-scenes or shrink-across-scenes");
+            "c.yaml:2: ours.registration_prior_scale must be auto, per-scene, across-scenes or shrink-across-scenes");
   using enum RegistrationScaleLearning;
   EXPECT_EQ(parse_method_config("c.yaml", "ours:\n  registration_prior_scale: across-scenes\n").ours.registration_scale_learning,
             kAcrossScenes);
@@ -139,7 +139,9 @@ TEST(MethodConfigFile, OursErrorsNameTheLine) {
             kPerScene);
   EXPECT_EQ(parse_method_config("c.yaml", "ours:\n  registration_prior_scale: shrink-across-scenes\n").ours.registration_scale_learning,
             kShrinkAcrossScenes);
-  EXPECT_EQ(parse_method_config("c.yaml", "ours:\n  lag_window_s: 1\n").ours.registration_scale_learning, kShrinkAcrossScenes);
+  EXPECT_EQ(parse_method_config("c.yaml", "ours:\n  registration_prior_scale: auto\n").ours.registration_scale_learning,
+            std::nullopt);
+  EXPECT_EQ(parse_method_config("c.yaml", "ours:\n  lag_window_s: 1\n").ours.registration_scale_learning, std::nullopt);
   EXPECT_EQ(error_of("ours:\n  adapt_process_noise: true\n  process_noise_scale: pooled\n"),
             "c.yaml:3: ours.process_noise_scale must be auto, per-scene or across-scenes");
   EXPECT_EQ(parse_method_config("c.yaml", "ours:\n  process_noise_scale: across-scenes\n").ours.process_noise_scale_across_scenes,

@@ -153,6 +153,24 @@ TEST(NamedMethodRun, LearnsQAcrossScenesForAModelOfSeveralBenchmarks) {
   EXPECT_TRUE(learns_process_noise_across_scenes(across, one));
 }
 
+// The registration prior's scales likewise: lowered across scenes by default for a model trained on
+// several benchmarks (a compromise prior), per scene for a model of one; as set otherwise.
+TEST(NamedMethodRun, LowersRegistrationScalesAcrossScenesForAModelOfSeveralBenchmarks) {
+  using enum RegistrationScaleLearning;
+  const nlohmann::json several = {{"benchmark", {"mpl", "cad"}}};
+  const nlohmann::json one = {{"benchmark", "mpl"}};
+  const OursSettings automatic;
+  EXPECT_EQ(registration_scale_learning_for(automatic, several), kShrinkAcrossScenes);
+  EXPECT_EQ(registration_scale_learning_for(automatic, one), kPerScene);
+  EXPECT_EQ(registration_scale_learning_for(automatic, nlohmann::json::object()), kPerScene);
+  for (const RegistrationScaleLearning set : {kPerScene, kAcrossScenes, kShrinkAcrossScenes}) {
+    OursSettings settings;
+    settings.registration_scale_learning = set;
+    EXPECT_EQ(registration_scale_learning_for(settings, several), set);
+    EXPECT_EQ(registration_scale_learning_for(settings, one), set);
+  }
+}
+
 TEST(NamedMethodRun, SttpAndModelFreeMethodsTakeAnyParts) {
   for (const std::string method : {"sttp", "wls", "aom"}) {
     const std::vector<Gaussian3> whole = run_named_method(method, MethodConfig{}, &model(), "model.pt", many_scenes());
