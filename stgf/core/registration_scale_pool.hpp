@@ -18,7 +18,8 @@
 // likelihood peaks at their true size.
 //
 // Use. Held (`registration_prior_scale: across-scenes`), a scene runs with the prior scaled by the
-// estimate and learns nothing of its own. Lowered only (`shrink-across-scenes`, the default), each
+// estimate and learns nothing of its own. Lowered only (`shrink-across-scenes`, the default for a model
+// trained on several benchmarks), each
 // scale is taken to the estimate only where that is below the calibration's (κ = 1), and the scene
 // learns its own scales from there as before. Why only down: where the offsets do not fit the model
 // (a camera's height error moves ground points along the ray in proportion to range, which a model
@@ -28,7 +29,10 @@
 // the camera proxies, NEES 0.5–0.9). A misfit cannot make views agree better than their offsets
 // allow, so an estimate below the calibration is the sensors' own: better registered than the
 // training data (no GPS error, a finer calibration), which a short scene, held near 1 by its prior,
-// cannot show alone.
+// cannot show alone. Not quite always: where the pool would raise one scale and lower the other (a
+// model of pedestrians on vehicles: translations up, offsets in units of the noise down), the fall
+// may be the rise's counterpart, and only the fall is taken (design §1.7: NEES, already far out on
+// cad, moves further).
 
 #include <cstddef>
 #include <optional>
