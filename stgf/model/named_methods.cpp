@@ -93,13 +93,17 @@ NamedMethodRun::NamedMethodRun(const std::string& method, const MethodConfig& co
     : method_(method),
       config_(config),
       model_(model),
-      model_path_(model_path),
-      registration_scales_(model != nullptr && registration_scale_learning_for(config.ours, model->metadata()) ==
-                                                       RegistrationScaleLearning::kAcrossScenes
-                               ? RegistrationScalePool::Use::kHold
-                               : RegistrationScalePool::Use::kLowerOnly) {
+      model_path_(model_path) {
   if (is_learned_method(method_) && model_ == nullptr) throw std::invalid_argument("--method " + method_ + " needs --model");
   if (method_ == "sttp") single_view_ = std::make_unique<SingleViewPredictionStream>(*model_);
+  if (model_ != nullptr) {
+    const RegistrationScaleLearning learning = registration_scale_learning_for(config_.ours, model_->metadata());
+    if (learning != RegistrationScaleLearning::kPerScene) {
+      registration_scales_.emplace(learning == RegistrationScaleLearning::kAcrossScenes
+                                       ? RegistrationScalePool::Use::kHold
+                                       : RegistrationScalePool::Use::kLowerOnly);
+    }
+  }
 }
 
 NamedMethodRun::~NamedMethodRun() = default;
@@ -116,10 +120,7 @@ std::vector<Gaussian3> NamedMethodRun::add(std::span<const Measurement> rows) {
   const FilterOptions options = filter_options_for(config_.ours, model_->metadata(), model_path_, &part.registration_missing);
   const bool prediction_only = method_ == "ours-l";
   const ScenePools pools{
-      .registration =
-          registration_scale_learning_for(config_.ours, model_->metadata()) != RegistrationScaleLearning::kPerScene
-              ? &registration_scales_
-              : nullptr,
+      .registration = registration_scales_ ? &*registration_scales_ : nullptr,
       .process_noise =
           learns_process_noise_across_scenes(config_.ours, model_->metadata()) ? &process_noise_scales_ : nullptr};
   FilterRun run = run_spatiotemporal_graph_filter(*model_, options, rows, /*keep_predictions=*/prediction_only, pools, scenes_);

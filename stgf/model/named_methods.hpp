@@ -4,6 +4,7 @@
 // included: what `stgf run`, `stgf reproduce` and the Python module call.
 
 #include <memory>
+#include <optional>
 #include <span>
 #include <string>
 #include <vector>
@@ -102,10 +103,10 @@ class NamedMethodRun {
   std::string model_path_;
   std::unique_ptr<SingleViewPredictionStream> single_view_;  // sttp
   MethodRunReport report_;
-  // ours: the registration prior's and Q's scales across the run's scenes (OursSettings::
-  // registration_scale_learning, process_noise_scale_across_scenes), and how many scenes came
-  // before the next part.
-  RegistrationScalePool registration_scales_;
+  // ours: the registration prior's scales across the run's scenes (none where each scene learns its
+  // own: registration_scale_learning_for), Q's (used where learns_process_noise_across_scenes), and how
+  // many scenes came before the next part.
+  std::optional<RegistrationScalePool> registration_scales_;
   ProcessNoisePool process_noise_scales_;
   std::size_t scenes_ = 0;
 };
