@@ -23,9 +23,12 @@ constexpr double kLowMedian = 0.5, kHighMedian = 2.0, kLowTenth = 0.2, kHighNine
 
 // κ̂_t and κ̂_n over the scenes (registration_prior_scale.hpp): how far the views' offsets were from the
 // size the model's calibration expects, and, when the prior in use does not fit, a bound to set it to.
-void log_registration_prior_scales(const std::string& method, const std::vector<RegistrationPriorScales>& learned,
-                                   std::size_t without, const RegistrationPrior& prior,
+// `scenes`: which of the run's scenes these were ("" when all of them).
+void log_registration_prior_scales(const std::string& method, const LearnedRegistrationScales& record,
+                                   const std::string& scenes, const RegistrationPrior& prior,
                                    RegistrationScaleLearning learning) {
+  const std::vector<RegistrationPriorScales>& learned = record.scales;
+  const std::size_t without = record.scenes_without;
   if (!learned.empty()) {
     std::vector<double> translation, noise_ratio;
     for (const RegistrationPriorScales& scales : learned) {
@@ -40,15 +43,14 @@ void log_registration_prior_scales(const std::string& method, const std::vector<
     const auto quantiles = [&at](const std::vector<double>& sorted) {
       return fmt::format("median {:.2f} (10-90 %: {:.2f}-{:.2f})", at(sorted, 0.5), at(sorted, 0.1), at(sorted, 0.9));
     };
-    spdlog::info("{}: registration prior scaled {} from the views' disagreements over {} scene(s): translation "
+    spdlog::info("{}: registration prior scaled {} from the views' disagreements over {} scene(s){}: translation "
                  "κ_t {}, offset in units of the noise κ_n {}; the offsets' σ is √κ times the model's calibration",
                  method,
                  learning == RegistrationScaleLearning::kAcrossScenes ? "across scenes"
                  : learning == RegistrationScaleLearning::kPerScene
                      ? "per scene"
                      : "per scene (each from the run's scales where these are below the calibration's)",
-                 learned.size(), quantiles(translation),
-                 quantiles(noise_ratio));
+                 learned.size(), scenes, quantiles(translation), quantiles(noise_ratio));
     // Each scene's scales are held near 1 by its prior; many scenes far from 1 in one direction say
     // that the prior itself is off for these sensors.
     const auto direction = [&at](const std::vector<double>& sorted) {
@@ -94,10 +96,10 @@ void log_registration_prior_scales(const std::string& method, const std::vector<
     }
   }
   if (without > 0) {
-    spdlog::info("{}: {} scene(s) kept the registration prior as calibrated: their views seldom measured an object at "
-                 "the same time, too little to learn its scale from (set it under `ours:` in --config if your "
+    spdlog::info("{}: {} scene(s){} kept the registration prior as calibrated: their views seldom measured an object "
+                 "at the same time, too little to learn its scale from (set it under `ours:` in --config if your "
                  "sensors are registered differently)",
-                 method, without);
+                 method, without, scenes);
   }
 }
 
@@ -154,13 +156,23 @@ void log_method_report(const std::string& method, const MethodConfig& config, co
                    method, learned);
     }
   }
-  if (!report.registration_prior_scales.empty() || report.scenes_without_prior_scale > 0) {
-    // Only `ours` learns the scales, and it has a model.
-    log_registration_prior_scales(method, report.registration_prior_scales, report.scenes_without_prior_scale,
-                                  model != nullptr ? resolve_registration_prior(config.ours, model->metadata(), model_path)
-                                                   : RegistrationPrior{},
-                                  model != nullptr ? registration_scale_learning_for(config.ours, model->metadata())
-                                                   : RegistrationScaleLearning::kPerScene);
+  // Only `ours` learns the scales, and it has a model. Scenes of fixed and of moving sensors apart
+  // (their scales may be learned differently: registration_scale_learning_for), named so where the run
+  // had scenes whose sensors move.
+  const auto had_scenes = [](const LearnedRegistrationScales& record) {
+    return !record.scales.empty() || record.scenes_without > 0;
+  };
+  const bool moving = had_scenes(report.registration_prior_scales.moving);
+  for (SensorMotion sensors : kSensorMotions) {
+    const LearnedRegistrationScales& record = report.registration_prior_scales[sensors];
+    if (!had_scenes(record) || model == nullptr) continue;
+    log_registration_prior_scales(
+        method, record,
+        sensors == SensorMotion::kMoving ? " whose sensors move"
+        : moving                         ? " whose sensors stand still"
+                                         : "",
+        resolve_registration_prior(config.ours, model->metadata(), model_path),
+        report.registration_scale_learning[sensors]);
   }
   if (report.late_rows > 0) {
     spdlog::info("{}: {} late row(s) fused in their place in time (arrived after later ones, within the lag window "

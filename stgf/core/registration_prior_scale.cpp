@@ -246,4 +246,9 @@ bool RegistrationPriorScale::update() {
   return changed;
 }
 
+void LearnedRegistrationScales::add(const LearnedRegistrationScales& later) {
+  scales.insert(scales.end(), later.scales.begin(), later.scales.end());
+  scenes_without += later.scenes_without;
+}
+
 }  // namespace stgf

@@ -92,6 +92,14 @@ struct RegistrationPriorScales {
   double noise_ratio = 1.0;
 };
 
+// The scales a run's scenes learned (of one kind of sensor: filter_runner.hpp).
+struct LearnedRegistrationScales {
+  std::vector<RegistrationPriorScales> scales;  // of each scene that had enough same-time disagreement
+  std::size_t scenes_without = 0;               // scenes that had not: they kept κ = 1
+
+  void add(const LearnedRegistrationScales& later);
+};
+
 class RegistrationPriorScale {
  public:
   static constexpr double kLogScaleSigma = 1.0;

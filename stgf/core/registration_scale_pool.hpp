@@ -14,12 +14,14 @@
 // the prior scaled by grid scales (k*, r*) is shifted to the calibration's: k + k* − 40, r + r* − 8.
 // The estimate is the argmax over the points every summed scene covers (within the grid's range).
 // Assumption: every scene's views share the two sizes of offset (as registration_prior_scale.hpp);
-// with the model fitting the sensors (on cameras, with the range scale: design §1.7) the summed
-// likelihood peaks at their true size.
+// with the model fitting the sensors (a moving platform's rigid pose error: sensor_motion.hpp) the
+// summed likelihood peaks at their true size. A run keeps one pool for scenes of fixed sensors and one
+// for scenes whose sensors move (filter_runner.hpp).
 //
-// Use. Held (`registration_prior_scale: across-scenes`), a scene runs with the prior scaled by the
-// estimate and learns nothing of its own. Lowered only (`shrink-across-scenes`, the default for a model
-// trained on several benchmarks), each
+// Use. Held (`registration_prior_scale: across-scenes`; for a model trained on several benchmarks, the
+// default where the sensors move: sensor_motion.hpp), a scene runs with the prior scaled by the
+// estimate and learns nothing of its own. Lowered only (`shrink-across-scenes`; for such a model the
+// default where the sensors stand still), each
 // scale is taken to the estimate only where that is below the calibration's (κ = 1), and the scene
 // learns its own scales from there as before. Why only down: where the offsets do not fit the model
 // (a camera's height error moves ground points along the ray in proportion to range, which a model

@@ -62,9 +62,12 @@ void collect(SceneFilter& filter, std::vector<SceneFilter::Result>& results, Est
   }
 }
 
-// What the pools gave the block, and where its first scene is in the whole run.
+// What the pools gave the block (its scenes' sensors all fixed or all moving), and where its first
+// scene is in the whole run.
 struct PooledScales {
-  ScenePools pools;
+  RegistrationScalePool* registration = nullptr;  // the pool of the block's kind of sensor
+  ProcessNoisePool* process_noise = nullptr;
+  SensorMotion sensors = SensorMotion::kFixed;
   std::size_t first_scene = 0;
   std::optional<RegistrationScalePool::Point> applied;  // none: each scene learns its own registration scales
 };
@@ -125,14 +128,14 @@ void run_block(const MotionPredictor& predictor, const FilterOptions& options, s
   }
   for (std::size_t s = 0; s < block.size(); ++s) {
     const SceneRun& scene = block[s];
-    if (pooled.pools.registration != nullptr) {
+    if (pooled.registration != nullptr) {
       const std::vector<double> grid = scene.filter->registration_likelihood_grid();
       if (!grid.empty()) {
-        pooled.pools.registration->add(pooled.first_scene + s, grid, pooled.applied.value_or(RegistrationScalePool::Point{}));
+        pooled.registration->add(pooled.first_scene + s, grid, pooled.applied.value_or(RegistrationScalePool::Point{}));
       }
     }
-    if (pooled.pools.process_noise != nullptr) {
-      pooled.pools.process_noise->add(pooled.first_scene + s, scene.filter->process_noise_evidence());
+    if (pooled.process_noise != nullptr) {
+      pooled.process_noise->add(pooled.first_scene + s, scene.filter->process_noise_evidence());
     }
     run.restarted_tracks += scene.filter->restarted_tracks();
     run.coasting_predictions += scene.filter->coasting_predictions();
@@ -147,14 +150,14 @@ void run_block(const MotionPredictor& predictor, const FilterOptions& options, s
       // The scales relative to the model's calibration: the run's, times the scene's own on top.
       const RegistrationPriorScales applied = pooled.applied ? pooled.applied->scales() : RegistrationPriorScales{};
       const bool learned = scene.filter->registration_prior_scale_learned();
+      LearnedRegistrationScales& record = run.registration_prior_scales[pooled.sensors];
       if (pooled.applied && (options.hold_registration_prior_scale || !learned)) {
-        run.registration_prior_scales.push_back(applied);
+        record.scales.push_back(applied);
       } else if (learned) {
         const RegistrationPriorScales own = scene.filter->registration_prior_scales();
-        run.registration_prior_scales.push_back(
-            {applied.translation * own.translation, applied.noise_ratio * own.noise_ratio});
+        record.scales.push_back({applied.translation * own.translation, applied.noise_ratio * own.noise_ratio});
       } else {
-        ++run.scenes_without_prior_scale;
+        ++record.scenes_without;
       }
     }
   }
@@ -187,26 +190,38 @@ FilterRun run_spatiotemporal_graph_filter(const MotionPredictor& predictor, cons
   run.scenes = scenes.size();
   if (!(scene_options.adapt_registration_prior && !scene_options.registration.is_zero() &&
         scene_options.tracks == TrackMode::kPerObject)) {
-    pools.registration = nullptr;
+    pools.registration = {};
   }
   if (!scene_options.adapt_process_noise) pools.process_noise = nullptr;  // λ = 1
+  std::vector<SensorMotion> sensors;
+  sensors.reserve(scenes.size());
+  for (const Scene& scene : scenes) sensors.push_back(sensor_motion(measurements, scene));
+  const bool pooling = pools.registration.fixed != nullptr || pools.registration.moving != nullptr ||
+                       pools.process_noise != nullptr;
   for (std::size_t first = 0; first < scenes.size();) {
     std::size_t count = std::min(kScenesPerFilterBlock, scenes.size() - first);
     const std::size_t global = first_scene + first;
-    PooledScales pooled{pools, global, std::nullopt};
+    const SensorMotion kind = sensors[first];
+    PooledScales pooled{pools.registration[kind], pools.process_noise, kind, global, std::nullopt};
     FilterOptions block_options = scene_options;
-    if (pools.registration != nullptr || pools.process_noise != nullptr) {
+    if (pooling) {
       // A block within one epoch of the pools: its scenes share their start.
       count = std::min(count, scene_epoch_end(global) - global);
     }
+    // And of one kind of sensor: they share the pool of the registration's scales too.
+    count = static_cast<std::size_t>(
+        std::find_if(sensors.begin() + static_cast<std::ptrdiff_t>(first),
+                     sensors.begin() + static_cast<std::ptrdiff_t>(first + count),
+                     [kind](SensorMotion other) { return other != kind; }) -
+        (sensors.begin() + static_cast<std::ptrdiff_t>(first)));
     if (pools.process_noise != nullptr) {
       block_options.process_noise_pooled = true;
       if (auto start = pools.process_noise->evidence_for(global)) {
         block_options.process_noise_start = std::make_shared<const ProcessNoiseEvidence>(std::move(*start));
       }
     }
-    if (pools.registration != nullptr) {
-      pooled.applied = pools.registration->estimate_for(global);
+    if (pooled.registration != nullptr) {
+      pooled.applied = pooled.registration->estimate_for(global);
       if (pooled.applied) {
         const RegistrationPriorScales scales = pooled.applied->scales();
         RegistrationPrior& prior = block_options.registration;
@@ -214,7 +229,7 @@ FilterRun run_spatiotemporal_graph_filter(const MotionPredictor& predictor, cons
         prior.noise_ratio *= std::sqrt(scales.noise_ratio);
         prior.range_scale_sigma *= std::sqrt(scales.noise_ratio);
         // Held at the run's scales, or (lowered only) learning the scene's own from them.
-        block_options.hold_registration_prior_scale = pools.registration->use() == RegistrationScalePool::Use::kHold;
+        block_options.hold_registration_prior_scale = pooled.registration->use() == RegistrationScalePool::Use::kHold;
       }
     }
     run_block(predictor, block_options, measurements, std::span(scenes).subspan(first, count), by_arrival, estimated,

@@ -28,6 +28,7 @@
 #include "stgf/core/process_noise_pool.hpp"
 #include "stgf/core/registration_scale_pool.hpp"
 #include "stgf/core/scene_filter.hpp"
+#include "stgf/core/sensor_motion.hpp"
 
 namespace stgf {
 
@@ -47,11 +48,9 @@ struct FilterRun {
   std::size_t late_rows = 0;           // late rows fused in their place in time
   std::size_t rewinds = 0;             // times a scene went back for them
   GatingSummary gating;                // what the gate did (its restarts are in restarted_tracks too)
-  // The registration prior's learned scales κ̂_t, κ̂_n (registration_prior_scale.hpp) of each scene
-  // that had enough same-time disagreement to learn them, and how many had not (they kept κ = 1);
-  // both empty without a registration prior or with adaptation off.
-  std::vector<RegistrationPriorScales> registration_prior_scales;
-  std::size_t scenes_without_prior_scale = 0;
+  // The registration prior's learned scales of the scenes of fixed sensors and of moving ones; empty
+  // without a registration prior or with adaptation off.
+  PerSensorMotion<LearnedRegistrationScales> registration_prior_scales;
   MotionChoiceSummary motion_choice;   // which motion the scenes followed (motion_choice.hpp)
   std::size_t scenes = 0;              // in the list
 };
@@ -59,10 +58,11 @@ struct FilterRun {
 // What the scenes of a run learn together, in list order (`first_scene` of run_spatiotemporal_graph_filter
 // is the place of the list's first scene in the whole run); null: each scene learns alone.
 struct ScenePools {
-  // The registration prior's scales (registration_scale_pool.hpp): each scene runs with the prior
-  // scaled by the pool's estimate for its place in the list, held there, and adds its evidence; scenes
-  // of the first epoch learn their own scales as without it.
-  RegistrationScalePool* registration = nullptr;
+  // The registration prior's scales (registration_scale_pool.hpp), one pool for the scenes of fixed
+  // sensors and one for those whose sensors move (sensor_motion.hpp): each scene runs with the prior
+  // scaled by its pool's estimate for its place in the list (held there, or learning on from it) and
+  // adds its evidence; scenes before the pool has enough learn their own scales as without it.
+  PerSensorMotion<RegistrationScalePool*> registration;
   // Q's scales (process_noise_pool.hpp): each scene starts them from the pool's evidence for its place
   // in the list, learns on from its own innovations, and adds what they said.
   ProcessNoisePool* process_noise = nullptr;

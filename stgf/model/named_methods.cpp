@@ -56,10 +56,12 @@ bool learns_process_noise_across_scenes(const OursSettings& settings, const nloh
   return trained_on_several_benchmarks(metadata);
 }
 
-RegistrationScaleLearning registration_scale_learning_for(const OursSettings& settings, const nlohmann::json& metadata) {
+RegistrationScaleLearning registration_scale_learning_for(const OursSettings& settings, const nlohmann::json& metadata,
+                                                          SensorMotion sensors) {
   if (settings.registration_scale_learning) return *settings.registration_scale_learning;
-  return trained_on_several_benchmarks(metadata) ? RegistrationScaleLearning::kShrinkAcrossScenes
-                                                 : RegistrationScaleLearning::kPerScene;
+  if (!trained_on_several_benchmarks(metadata)) return RegistrationScaleLearning::kPerScene;
+  return sensors == SensorMotion::kMoving ? RegistrationScaleLearning::kAcrossScenes
+                                          : RegistrationScaleLearning::kShrinkAcrossScenes;
 }
 
 void MethodRunReport::add(const MethodRunReport& later) {
@@ -70,9 +72,10 @@ void MethodRunReport::add(const MethodRunReport& later) {
   late_measurements += later.late_measurements;
   registration_missing = registration_missing || later.registration_missing;
   gating.add(later.gating);
-  registration_prior_scales.insert(registration_prior_scales.end(), later.registration_prior_scales.begin(),
-                                   later.registration_prior_scales.end());
-  scenes_without_prior_scale += later.scenes_without_prior_scale;
+  for (SensorMotion sensors : kSensorMotions) {
+    registration_prior_scales[sensors].add(later.registration_prior_scales[sensors]);
+    registration_scale_learning[sensors] = later.registration_scale_learning[sensors];
+  }
   motion_choice.add(later.motion_choice);
   if (later.process_noise_scales_across_scenes) process_noise_scales_across_scenes = later.process_noise_scales_across_scenes;
 }
@@ -97,11 +100,14 @@ NamedMethodRun::NamedMethodRun(const std::string& method, const MethodConfig& co
   if (is_learned_method(method_) && model_ == nullptr) throw std::invalid_argument("--method " + method_ + " needs --model");
   if (method_ == "sttp") single_view_ = std::make_unique<SingleViewPredictionStream>(*model_);
   if (model_ != nullptr) {
-    const RegistrationScaleLearning learning = registration_scale_learning_for(config_.ours, model_->metadata());
-    if (learning != RegistrationScaleLearning::kPerScene) {
-      registration_scales_.emplace(learning == RegistrationScaleLearning::kAcrossScenes
-                                       ? RegistrationScalePool::Use::kHold
-                                       : RegistrationScalePool::Use::kLowerOnly);
+    for (SensorMotion sensors : kSensorMotions) {
+      const RegistrationScaleLearning learning = registration_scale_learning_for(config_.ours, model_->metadata(), sensors);
+      report_.registration_scale_learning[sensors] = learning;
+      if (learning != RegistrationScaleLearning::kPerScene) {
+        registration_scales_[sensors].emplace(learning == RegistrationScaleLearning::kAcrossScenes
+                                                  ? RegistrationScalePool::Use::kHold
+                                                  : RegistrationScalePool::Use::kLowerOnly);
+      }
     }
   }
 }
@@ -119,8 +125,12 @@ std::vector<Gaussian3> NamedMethodRun::add(std::span<const Measurement> rows) {
   MethodRunReport part;
   const FilterOptions options = filter_options_for(config_.ours, model_->metadata(), model_path_, &part.registration_missing);
   const bool prediction_only = method_ == "ours-l";
+  const auto pool = [this](SensorMotion sensors) {
+    std::optional<RegistrationScalePool>& scales = registration_scales_[sensors];
+    return scales ? &*scales : nullptr;
+  };
   const ScenePools pools{
-      .registration = registration_scales_ ? &*registration_scales_ : nullptr,
+      .registration = {.fixed = pool(SensorMotion::kFixed), .moving = pool(SensorMotion::kMoving)},
       .process_noise =
           learns_process_noise_across_scenes(config_.ours, model_->metadata()) ? &process_noise_scales_ : nullptr};
   FilterRun run = run_spatiotemporal_graph_filter(*model_, options, rows, /*keep_predictions=*/prediction_only, pools, scenes_);
@@ -132,7 +142,7 @@ std::vector<Gaussian3> NamedMethodRun::add(std::span<const Measurement> rows) {
   part.late_measurements = run.late_measurements;
   part.gating = std::move(run.gating);
   part.registration_prior_scales = std::move(run.registration_prior_scales);
-  part.scenes_without_prior_scale = run.scenes_without_prior_scale;
+  part.registration_scale_learning = report_.registration_scale_learning;
   part.motion_choice = run.motion_choice;
   if (pools.process_noise != nullptr) part.process_noise_scales_across_scenes = process_noise_scales_.scales();
   report_.add(part);

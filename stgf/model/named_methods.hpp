@@ -16,6 +16,7 @@
 #include "stgf/core/registration_scale_pool.hpp"
 #include "stgf/core/view_noise_scales.hpp"
 #include "stgf/core/scene_filter.hpp"
+#include "stgf/core/sensor_motion.hpp"
 #include "stgf/model/trained_motion_model.hpp"
 #include "stgf/methods/registry.hpp"
 
@@ -39,11 +40,15 @@ FilterOptions filter_options_for(const OursSettings& settings, const nlohmann::j
 // its calibrated Q, scaled per scene (design §1.2).
 bool learns_process_noise_across_scenes(const OursSettings& settings, const nlohmann::json& metadata);
 
-// Where `ours` learns the registration prior's scales: as set, or (auto) lowered across the run's
-// scenes for a model trained on several benchmarks, whose prior is a compromise between sensors
-// registered tens of times apart (cameras' centimetres, vehicles' GPS decimetres), and per scene for a
-// model of one, whose prior was calibrated on sensors like the data's (design §1.7).
-RegistrationScaleLearning registration_scale_learning_for(const OursSettings& settings, const nlohmann::json& metadata);
+// Where `ours` learns the registration prior's scales for scenes of fixed or of moving sensors
+// (sensor_motion.hpp): as set (for both), or (auto) per scene for a model of one benchmark, whose prior
+// was calibrated on sensors like the data's, and across the run's scenes for a model trained on several,
+// whose prior is a compromise between sensors registered tens of times apart (cameras' centimetres,
+// vehicles' GPS decimetres): for moving sensors held at the scenes' estimate (their rigid pose errors
+// fit the offsets' model), for fixed ones only lowered by it (a camera's height error does not fit it,
+// and the scenes together would widen the prior too far; design §1.7).
+RegistrationScaleLearning registration_scale_learning_for(const OursSettings& settings, const nlohmann::json& metadata,
+                                                          SensorMotion sensors);
 
 // What a run did that its caller should tell the user about.
 struct MethodRunReport {
@@ -54,8 +59,10 @@ struct MethodRunReport {
   std::size_t late_measurements = 0;  // rows later than the lag window, left out of the fusion
   bool registration_missing = false;  // the model holds no registration calibration (offsets taken as zero)
   GatingSummary gating;               // what the χ² gate did (its restarts are in restarted_tracks too)
-  std::vector<RegistrationPriorScales> registration_prior_scales;  // κ̂_t, κ̂_n per scene that learned them (filter_runner.hpp)
-  std::size_t scenes_without_prior_scale = 0;     // scenes that kept κ = 1
+  // The registration prior's scales of the scenes of fixed and of moving sensors (filter_runner.hpp),
+  // and where they were learned (registration_scale_learning_for; ours only).
+  PerSensorMotion<LearnedRegistrationScales> registration_prior_scales;
+  PerSensorMotion<RegistrationScaleLearning> registration_scale_learning;
   MotionChoiceSummary motion_choice;              // which motion the scenes followed
   // With Q's scales learned across scenes: their λ̂ per world axis from all the run's scenes so far.
   std::optional<ProcessNoisePool::Scales> process_noise_scales_across_scenes;
@@ -103,10 +110,10 @@ class NamedMethodRun {
   std::string model_path_;
   std::unique_ptr<SingleViewPredictionStream> single_view_;  // sttp
   MethodRunReport report_;
-  // ours: the registration prior's scales across the run's scenes (none where each scene learns its
-  // own: registration_scale_learning_for), Q's (used where learns_process_noise_across_scenes), and how
-  // many scenes came before the next part.
-  std::optional<RegistrationScalePool> registration_scales_;
+  // ours: the registration prior's scales across the run's scenes, for fixed and for moving sensors
+  // (none where each scene learns its own: registration_scale_learning_for), Q's (used where
+  // learns_process_noise_across_scenes), and how many scenes came before the next part.
+  PerSensorMotion<std::optional<RegistrationScalePool>> registration_scales_;
   ProcessNoisePool process_noise_scales_;
   std::size_t scenes_ = 0;
 };

@@ -7,6 +7,8 @@
 #include "stgf/model/named_methods.hpp"
 
 #include <algorithm>
+#include <map>
+#include <random>
 
 #include <gtest/gtest.h>
 
@@ -110,7 +112,9 @@ TEST(NamedMethodRun, ScalesAcrossScenesDoNotDependOnTheParts) {
   const std::vector<Gaussian3> own = run_named_method("ours", per_scene, &model(), "model.pt", many_scenes(), &own_report);
   const auto median_translation = [](const MethodRunReport& report) {
     std::vector<double> translation;
-    for (const RegistrationPriorScales& scales : report.registration_prior_scales) translation.push_back(scales.translation);
+    for (const RegistrationPriorScales& scales : report.registration_prior_scales.fixed.scales) {
+      translation.push_back(scales.translation);
+    }
     std::nth_element(translation.begin(), translation.begin() + translation.size() / 2, translation.end());
     return translation[translation.size() / 2];
   };
@@ -126,7 +130,8 @@ TEST(NamedMethodRun, ScalesAcrossScenesDoNotDependOnTheParts) {
     // With the registration's scales pooled, the scenes after the first 16 ran with them, every one
     // reported; the pool lowered them below what each scene alone learns.
     if (pooled.find("process_noise_scale") == std::string::npos) {
-      EXPECT_GE(whole_report.registration_prior_scales.size(), 300u - 16u) << pooled;
+      EXPECT_GE(whole_report.registration_prior_scales.fixed.scales.size(), 300u - 16u) << pooled;
+      EXPECT_TRUE(whole_report.registration_prior_scales.moving.scales.empty()) << "the synthetic views stand still";
       EXPECT_LT(median_translation(whole_report), 0.5 * median_translation(own_report)) << pooled;
     }
     std::size_t differing = 0;
@@ -153,22 +158,77 @@ TEST(NamedMethodRun, LearnsQAcrossScenesForAModelOfSeveralBenchmarks) {
   EXPECT_TRUE(learns_process_noise_across_scenes(across, one));
 }
 
-// The registration prior's scales likewise: lowered across scenes by default for a model trained on
-// several benchmarks (a compromise prior), per scene for a model of one; as set otherwise.
-TEST(NamedMethodRun, LowersRegistrationScalesAcrossScenesForAModelOfSeveralBenchmarks) {
+// The registration prior's scales likewise, for a model trained on several benchmarks (a compromise
+// prior): learned across scenes and held there where the sensors move, only lowered by the scenes
+// where they stand still; per scene for a model of one; as set otherwise, whatever the sensors.
+TEST(NamedMethodRun, LearnsRegistrationScalesAcrossScenesForAModelOfSeveralBenchmarks) {
   using enum RegistrationScaleLearning;
   const nlohmann::json several = {{"benchmark", {"mpl", "cad"}}};
   const nlohmann::json one = {{"benchmark", "mpl"}};
   const OursSettings automatic;
-  EXPECT_EQ(registration_scale_learning_for(automatic, several), kShrinkAcrossScenes);
-  EXPECT_EQ(registration_scale_learning_for(automatic, one), kPerScene);
-  EXPECT_EQ(registration_scale_learning_for(automatic, nlohmann::json::object()), kPerScene);
-  for (const RegistrationScaleLearning set : {kPerScene, kAcrossScenes, kShrinkAcrossScenes}) {
-    OursSettings settings;
-    settings.registration_scale_learning = set;
-    EXPECT_EQ(registration_scale_learning_for(settings, several), set);
-    EXPECT_EQ(registration_scale_learning_for(settings, one), set);
+  EXPECT_EQ(registration_scale_learning_for(automatic, several, SensorMotion::kFixed), kShrinkAcrossScenes);
+  EXPECT_EQ(registration_scale_learning_for(automatic, several, SensorMotion::kMoving), kAcrossScenes);
+  for (SensorMotion sensors : kSensorMotions) {
+    EXPECT_EQ(registration_scale_learning_for(automatic, one, sensors), kPerScene);
+    EXPECT_EQ(registration_scale_learning_for(automatic, nlohmann::json::object(), sensors), kPerScene);
+    for (const RegistrationScaleLearning set : {kPerScene, kAcrossScenes, kShrinkAcrossScenes}) {
+      OursSettings settings;
+      settings.registration_scale_learning = set;
+      EXPECT_EQ(registration_scale_learning_for(settings, several, sensors), set);
+      EXPECT_EQ(registration_scale_learning_for(settings, one, sensors), set);
+    }
   }
+}
+
+// many_scenes() with every view of every scene off by an offset the rows do not state, σ = 0.5 m per
+// horizontal axis (five times the prior's below); its sensors carried along x at 2 m/s where `moving`
+// (1.4 m over a scene's 8 steps, beyond kMovingSensorDistance).
+std::vector<Measurement> offset_scenes(bool moving) {
+  std::vector<Measurement> rows = many_scenes();
+  std::mt19937_64 random(17);
+  std::normal_distribution<double> offset(0.0, 0.5);
+  std::map<std::pair<std::string, std::string>, Vector3d> offsets;
+  std::map<std::string, double> start;
+  for (Measurement& row : rows) {
+    auto [it, drawn] = offsets.try_emplace({row.scene, row.view}, Vector3d::Zero());
+    if (drawn) it->second = Vector3d(offset(random), offset(random), 0.0);
+    row.position = Gaussian3::from_covariance(row.position.mean() + it->second, row.position.covariance());
+    const double first = start.try_emplace(row.scene, row.time).first->second;
+    if (moving && row.sensor_position) *row.sensor_position += Vector3d(2.0 * (row.time - first), 0.0, 0.0);
+  }
+  return rows;
+}
+
+// The scenes of fixed and of moving sensors learn the registration's scales in separate pools, each
+// as it is used: offsets five times the prior's raise the moving sensors' scales for every scene after
+// the first 16 (held at what the scenes before show), while fixed sensors' scenes, whose pool may only
+// lower their start, learn theirs within a few times of the prior's.
+TEST(NamedMethodRun, PoolsTheRegistrationScalesOfMovingSensorsApart) {
+  const MethodConfig config =
+      parse_method_config("c.yaml", "ours:\n  registration_translation_sigma_m: 0.1\n  registration_noise_ratio: 0.5\n");
+  const FilterOptions options = filter_options_for(config.ours, model().metadata(), "model.pt");
+  const auto median = [](std::vector<double> values) {
+    std::nth_element(values.begin(), values.begin() + static_cast<std::ptrdiff_t>(values.size() / 2), values.end());
+    return values[values.size() / 2];
+  };
+  PerSensorMotion<double> translation;
+  for (const bool moving : {false, true}) {
+    RegistrationScalePool lowered(RegistrationScalePool::Use::kLowerOnly), held(RegistrationScalePool::Use::kHold);
+    const std::vector<Measurement> rows = offset_scenes(moving);
+    const FilterRun run = run_spatiotemporal_graph_filter(model(), options, rows, false,
+                                                          ScenePools{.registration = {.fixed = &lowered, .moving = &held}});
+    const SensorMotion sensors = moving ? SensorMotion::kMoving : SensorMotion::kFixed;
+    const SensorMotion other = moving ? SensorMotion::kFixed : SensorMotion::kMoving;
+    EXPECT_TRUE(run.registration_prior_scales[other].scales.empty()) << moving;
+    const std::vector<RegistrationPriorScales>& learned = run.registration_prior_scales[sensors].scales;
+    ASSERT_GE(learned.size(), 300u - 16u) << moving;
+    std::vector<double> kappa;
+    for (const RegistrationPriorScales& scales : learned) kappa.push_back(scales.translation);
+    translation[sensors] = median(kappa);
+  }
+  // The offsets' variance is 25 times the prior's.
+  EXPECT_GT(translation.moving, 10.0);
+  EXPECT_LT(translation.fixed, 0.5 * translation.moving);
 }
 
 TEST(NamedMethodRun, SttpAndModelFreeMethodsTakeAnyParts) {
