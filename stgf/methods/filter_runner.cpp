@@ -209,11 +209,9 @@ FilterRun run_spatiotemporal_graph_filter(const MotionPredictor& predictor, cons
       count = std::min(count, scene_epoch_end(global) - global);
     }
     // And of one kind of sensor: they share the pool of the registration's scales too.
-    count = static_cast<std::size_t>(
-        std::find_if(sensors.begin() + static_cast<std::ptrdiff_t>(first),
-                     sensors.begin() + static_cast<std::ptrdiff_t>(first + count),
-                     [kind](SensorMotion other) { return other != kind; }) -
-        (sensors.begin() + static_cast<std::ptrdiff_t>(first)));
+    std::size_t same_kind = 1;
+    while (same_kind < count && sensors[first + same_kind] == kind) ++same_kind;
+    count = same_kind;
     if (pools.process_noise != nullptr) {
       block_options.process_noise_pooled = true;
       if (auto start = pools.process_noise->evidence_for(global)) {
