@@ -23,15 +23,13 @@ train() {  # name, benchmarks (comma-separated names)[, more stgf train options]
 }
 train ethucy ethucy
 # The models of several benchmarks are meant for data in any world frame: each training graph is
-# turned by a random heading every epoch (--rotate; design §1.1, "The world frame's heading"). Their
-# sensors differ in how their offsets lie along and across the rays (cameras' height errors along,
-# vehicles' heading errors across): one α each way (--noise-ratio per-axis; design §1.7).
-train without-mpl cad,ethucy --rotate --noise-ratio per-axis
-train without-cad mpl,ethucy --rotate --noise-ratio per-axis
-train without-ethucy mpl,cad --rotate --noise-ratio per-axis
+# turned by a random heading every epoch (--rotate; design §1.1, "The world frame's heading").
+train without-mpl cad,ethucy --rotate
+train without-cad mpl,ethucy --rotate
+train without-ethucy mpl,cad --rotate
 # The model on all three is the general model shipped with stgf, by models/README.md's recipe: it must
 # come out byte for byte as models/general.pt (same seed, threads and kernels).
-train all mpl,cad,ethucy --no-resume-state --weights float16 --rotate --noise-ratio per-axis
+train all mpl,cad,ethucy --no-resume-state --weights float16 --rotate
 if ! cmp -s "$out/all.pt" models/general.pt; then
   echo "$out/all.pt differs from models/general.pt: the shipped model is not what its recipe gives" >&2
   exit 1
@@ -43,7 +41,7 @@ doc="$out/general-model.md"
   echo
   echo "Produced by \`scripts/general_model.sh\` (seed 1). Each model is trained with"
   echo "\`stgf train --benchmark A,B\` (8 epochs, as \`stgf reproduce\` trains; a model of several benchmarks with \`--rotate\`, each"
-  echo "training graph turned by a random heading every epoch, and \`--noise-ratio per-axis\`) on the train and val splits"
+  echo "training graph turned by a random heading every epoch) on the train and val splits"
   echo "of the benchmarks it names, and scored on the test split of the one it did not see. \`ours"
   echo "(own)\` is the held-out benchmark's own model (docs/results.md; for ethucy trained here the same"
   echo "way), \`ours (all)\` the model trained on all three: the general model shipped with stgf"
