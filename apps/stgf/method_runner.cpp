@@ -83,8 +83,8 @@ void log_registration_prior_scales(const std::string& method, const LearnedRegis
                    "sensors' registration error, set it under `ours:` in --config; these scenes suggest {}",
                    method,
                    learning == RegistrationScaleLearning::kAcrossScenes
-                       ? "the first 16 scenes learn their own scale, within a few times of the prior's (the rest take "
-                         "the scenes' before them)."
+                       ? "each scene starts from what the scenes before it showed and learns on from its own; the "
+                         "first ones, with few before them, stay nearer the prior's."
                    : learning == RegistrationScaleLearning::kPerScene
                        ? "each scene learns its own scale, but only within a few times of the prior's, and a short "
                          "scene less (`registration_prior_scale: shrink-across-scenes` or `across-scenes` pools the "

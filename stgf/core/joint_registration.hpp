@@ -132,6 +132,10 @@ class JointRegistration {
                            std::span<const Matrix3d> alignment_covariances = {});
   bool adapt_prior_scale();
   RegistrationPriorScales prior_scales() const { return prior_scale_.scales(); }
+  // The scales' start from other scenes' evidence (RegistrationPriorScale::start_from); before any view.
+  void start_prior_scale_from(std::shared_ptr<const std::vector<double>> pooled) {
+    prior_scale_.start_from(std::move(pooled));
+  }
   // The evidence's log likelihood grid of the scales (RegistrationPriorScale::log_likelihood_grid) and
   // its size (difference dimensions; 0: none).
   std::vector<double> prior_scale_log_likelihood_grid() const { return prior_scale_.log_likelihood_grid(); }

@@ -207,26 +207,61 @@ struct GridPriors {
 
 }  // namespace
 
+void RegistrationPriorScale::start_from(std::shared_ptr<const std::vector<double>> pooled) {
+  if (pooled == nullptr || pooled->size() != static_cast<std::size_t>(kPooledRatios * kGridPoints)) {
+    throw std::invalid_argument("RegistrationPriorScale::start_from: a grid of 17 × 81 log likelihoods");
+  }
+  pooled_ = std::move(pooled);
+  const RegistrationPriorScales scales = posterior_mean();
+  translation_scale_ = scales.translation;
+  noise_ratio_scale_ = scales.noise_ratio;
+}
+
 bool RegistrationPriorScale::update() {
   if (dimensions_ < kFirstEstimateDimensions || dimensions_ < 2.0 * estimated_at_) return false;
   estimated_at_ = dimensions_;
+  const RegistrationPriorScales scales = posterior_mean();
+  const bool changed = scales.translation != translation_scale_ || scales.noise_ratio != noise_ratio_scale_;
+  translation_scale_ = scales.translation;
+  noise_ratio_scale_ = scales.noise_ratio;
+  return changed;
+}
+
+RegistrationPriorScales RegistrationPriorScale::posterior_mean() const {
   // Two hypotheses, a priori equally likely (header): one scale (ρ = 1, ln κ ~ N(0, s²)), and two
   // (ln κ_t, ln κ_n ~ N(0, s²) independent, ρ on its grid), each prior normalised over its own grid;
-  // (κ̂_t, κ̂_n) is the posterior mean over both. Views with coordinates of one kind only: one scale.
+  // (κ̂_t, κ̂_n) is the posterior mean over both. Views with coordinates of one kind only: one scale
+  // (unless other scenes' evidence is pooled in, which may have had both).
   static const GridPriors priors;
-  const ScaledEvidence evidence = scaled_evidence();
+  const bool own = dimensions_ > 0.0 && coordinates() > 0;
+  const ScaledEvidence evidence = own ? scaled_evidence() : ScaledEvidence{};
   const auto translations = std::count(evidence.translation.begin(), evidence.translation.end(), true);
-  const bool both = translations > 0 && translations < static_cast<std::ptrdiff_t>(evidence.translation.size());
+  const bool both =
+      pooled_ != nullptr || (translations > 0 && translations < static_cast<std::ptrdiff_t>(evidence.translation.size()));
+  // The pooled grid's row of log₂ ρ (its rows: log₂ ρ = −8, −7, …, 8).
+  const auto pooled = [this](double log2_ratio, std::size_t k) {
+    if (pooled_ == nullptr) return 0.0;
+    const auto row = static_cast<std::size_t>(std::lround(log2_ratio) + (kPooledRatios - 1) / 2);
+    return (*pooled_)[row * kGridPoints + k];
+  };
+  const auto likelihood_at = [&](double log2_ratio) {
+    return own ? log_likelihood(evidence, log2_ratio) : std::array<double, kGridPoints>{};
+  };
   // log weights: the one-scale hypothesis's, then the two-scale one's per ratio.
   std::array<std::array<double, kGridPoints>, kRatioPoints + 1> weights{};
-  const std::array<double, kGridPoints> equal = log_likelihood(evidence, 0.0);
+  const std::array<double, kGridPoints> equal = likelihood_at(0.0);
   double peak = -std::numeric_limits<double>::infinity();
-  for (std::size_t k = 0; k < kGridPoints; ++k) peak = std::max(peak, weights[0][k] = equal[k] + priors.one[k]);
+  for (std::size_t k = 0; k < kGridPoints; ++k) {
+    peak = std::max(peak, weights[0][k] = equal[k] + pooled(0.0, k) + priors.one[k]);
+  }
   const int ratios = both ? kRatioPoints : 0;
   for (int r = 0; r < ratios; ++r) {
     const auto row = static_cast<std::size_t>(r);
-    const std::array<double, kGridPoints> likelihood = r == kEqualRatio ? equal : log_likelihood(evidence, grid_log2_ratio(r));
-    for (std::size_t k = 0; k < kGridPoints; ++k) peak = std::max(peak, weights[row + 1][k] = likelihood[k] + priors.two[row][k]);
+    const double log2_ratio = grid_log2_ratio(r);
+    const std::array<double, kGridPoints> likelihood = r == kEqualRatio ? equal : likelihood_at(log2_ratio);
+    for (std::size_t k = 0; k < kGridPoints; ++k) {
+      peak = std::max(peak, weights[row + 1][k] = likelihood[k] + pooled(log2_ratio, k) + priors.two[row][k]);
+    }
   }
   double total = 0.0, translation = 0.0, noise_ratio = 0.0;
   for (int h = 0; h <= ratios; ++h) {
@@ -239,11 +274,7 @@ bool RegistrationPriorScale::update() {
       noise_ratio += weight * ratio * scale;
     }
   }
-  const double translation_scale = translation / total, noise_ratio_scale = noise_ratio / total;
-  const bool changed = translation_scale != translation_scale_ || noise_ratio_scale != noise_ratio_scale_;
-  translation_scale_ = translation_scale;
-  noise_ratio_scale_ = noise_ratio_scale;
-  return changed;
+  return {translation / total, noise_ratio / total};
 }
 
 void LearnedRegistrationScales::add(const LearnedRegistrationScales& later) {

@@ -78,6 +78,7 @@
 
 #include <array>
 #include <cstddef>
+#include <memory>
 #include <span>
 #include <vector>
 
@@ -112,6 +113,7 @@ class RegistrationPriorScale {
   static constexpr int kRatioPoints = 5;  // log₂ ρ = −8, −4, 0, 4, 8
   static constexpr double kRatioStep = 4.0;
   static constexpr int kEqualRatio = 2;  // ρ = 1
+  static constexpr int kPooledRatios = 17;  // log_likelihood_grid's rows: log₂ ρ = −8, −7, …, 8
 
   // What a coordinate of β is part of: a view's translation offset (its prior information is Λ₀'s,
   // scaled by 1/κ_t), its offset in units of its noise (by 1/κ_n), or neither (a released jump's, fixed).
@@ -132,12 +134,17 @@ class RegistrationPriorScale {
   // offsets there are, once each is known): a caller may stop adding it.
   bool has_enough_evidence() const { return dimensions_ >= kEnoughEvidenceDimensions; }
 
+  // Starts from what other scenes' disagreements said (registration_scale_pool.hpp): their summed log
+  // likelihoods on log_likelihood_grid's grid (17 × 81, relative to this scene's prior), added to the
+  // posterior of this estimate and every later one. The scales are that posterior's mean at once.
+  void start_from(std::shared_ptr<const std::vector<double>> pooled);
+
   // Re-estimates κ̂_t and κ̂_n if the evidence has doubled since the last estimate. Returns whether
   // either changed.
   bool update();
   double scale(Group group) const;  // its κ̂ (1 before any estimate, and for kFixed)
   RegistrationPriorScales scales() const { return {translation_scale_, noise_ratio_scale_}; }
-  bool estimated() const { return estimated_at_ > 0.0; }
+  bool estimated() const { return estimated_at_ > 0.0 || pooled_ != nullptr; }
   double evidence_dimensions() const { return dimensions_; }
 
   // The log marginal likelihood (up to a constant) of κ_t = 2^(grid index / 4 − 10) and κ_n = ρ κ_t
@@ -156,6 +163,9 @@ class RegistrationPriorScale {
     std::vector<bool> translation;
   };
   ScaledEvidence scaled_evidence() const;
+  // The posterior mean of the scales over both hypotheses, from the prior, this scene's evidence and
+  // the pooled one.
+  RegistrationPriorScales posterior_mean() const;
   static std::array<double, kGridPoints> log_likelihood(const ScaledEvidence& evidence, double log2_ratio);
 
   std::vector<double> prior_information_;
@@ -166,6 +176,7 @@ class RegistrationPriorScale {
   double dimensions_ = 0.0;
   double estimated_at_ = 0.0;  // evidence dimensions of the last estimate
   double translation_scale_ = 1.0, noise_ratio_scale_ = 1.0;
+  std::shared_ptr<const std::vector<double>> pooled_;  // other scenes' log likelihoods (start_from)
 };
 
 }  // namespace stgf

@@ -69,4 +69,21 @@ std::optional<RegistrationScalePool::Point> RegistrationScalePool::estimate_for(
   return best;
 }
 
+std::optional<std::vector<double>> RegistrationScalePool::evidence_for(std::size_t scene_index) const {
+  const auto before = sums_.before(scene_index);
+  if (before.scenes == 0) return std::nullopt;
+  std::vector<double> grid;
+  grid.reserve(static_cast<std::size_t>(kRatioIndices * kScaleIndices));
+  for (int r = 0; r < kRatioIndices; ++r) {
+    for (int k = 0; k < kScaleIndices; ++k) {
+      const auto j = static_cast<std::size_t>((r + kUnitRatio) * kScaleSpan + k + kUnitScale);
+      if (before.evidence.covered[j] != before.scenes) {
+        throw std::logic_error("RegistrationScalePool::evidence_for: a scene ran with the prior scaled");
+      }
+      grid.push_back(before.evidence.log_likelihood[j]);
+    }
+  }
+  return grid;
+}
+
 }  // namespace stgf

@@ -123,6 +123,7 @@ SceneFilter::SceneFilter(const MotionPredictor& predictor, const FilterOptions& 
   if (!std::isfinite(options.lag_window) || options.lag_window < 0.0) {
     throw std::invalid_argument("the lag window must be finite and >= 0 seconds");
   }
+  if (options_.registration_scale_start) state_.joint.start_prior_scale_from(options_.registration_scale_start);
   if (options_.lag_window > 0.0) checkpoints_.push_back({-std::numeric_limits<double>::infinity(), state_});
 }
 
@@ -392,7 +393,7 @@ void SceneFilter::close_frames(double time) {
     }
     track.close_frame(predictor_);
   }
-  if (compared && !options_.hold_registration_prior_scale) state_.joint.adapt_prior_scale();
+  if (compared) state_.joint.adapt_prior_scale();
 }
 
 OffsetVector SceneFilter::registration_offset(std::string_view view) const {
@@ -658,7 +659,7 @@ void SceneFilter::process_joint(Event& event) {
       track.count_gated_event();
     }
   }
-  if (options_.adapt_registration_prior && !options_.hold_registration_prior_scale) state_.joint.adapt_prior_scale();
+  if (options_.adapt_registration_prior) state_.joint.adapt_prior_scale();
   std::vector<std::string_view> objects;
   objects.reserve(checked.size());
   for (const Checked& object : checked) objects.push_back(event.rows[object.first].measurement.object);

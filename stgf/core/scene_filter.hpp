@@ -118,9 +118,9 @@ struct FilterOptions {
   // kPerObject: learn the registration prior's scales κ_t, κ_n from the views' disagreements
   // (registration_prior_scale.hpp; false: κ = 1, the prior as given)
   bool adapt_registration_prior = true;
-  // With adapt_registration_prior: gather the disagreements' evidence, but keep the prior as given
-  // (its scales come from other scenes: registration_scale_pool.hpp).
-  bool hold_registration_prior_scale = false;
+  // What other scenes' disagreements said of the registration prior's scales: this scene's start, and
+  // part of every estimate it makes of them (registration_scale_pool.hpp; none: its prior alone).
+  std::shared_ptr<const std::vector<double>> registration_scale_start;
   // What other scenes' innovations said of Q's scales λ: this scene's start (process_noise_pool.hpp;
   // none: the prior alone).
   std::shared_ptr<const ProcessNoiseEvidence> process_noise_start;

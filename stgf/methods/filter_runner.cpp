@@ -151,7 +151,7 @@ void run_block(const MotionPredictor& predictor, const FilterOptions& options, s
       const RegistrationPriorScales applied = pooled.applied ? pooled.applied->scales() : RegistrationPriorScales{};
       const bool learned = scene.filter->registration_prior_scale_learned();
       LearnedRegistrationScales& record = run.registration_prior_scales[pooled.sensors];
-      if (pooled.applied && (options.hold_registration_prior_scale || !learned)) {
+      if (pooled.applied && !learned) {
         record.scales.push_back(applied);
       } else if (learned) {
         const RegistrationPriorScales own = scene.filter->registration_prior_scales();
@@ -218,7 +218,13 @@ FilterRun run_spatiotemporal_graph_filter(const MotionPredictor& predictor, cons
         block_options.process_noise_start = std::make_shared<const ProcessNoiseEvidence>(std::move(*start));
       }
     }
-    if (pooled.registration != nullptr) {
+    if (pooled.registration != nullptr && pooled.registration->use() == RegistrationScalePool::Use::kEvidence) {
+      // Each scene starts from the evidence of the epochs before its own and learns on from its own.
+      if (auto start = pooled.registration->evidence_for(global)) {
+        block_options.registration_scale_start = std::make_shared<const std::vector<double>>(std::move(*start));
+      }
+    } else if (pooled.registration != nullptr) {
+      // Lowered only: the prior scaled down to the run's scales, each scene learning its own from there.
       pooled.applied = pooled.registration->estimate_for(global);
       if (pooled.applied) {
         const RegistrationPriorScales scales = pooled.applied->scales();
@@ -226,8 +232,6 @@ FilterRun run_spatiotemporal_graph_filter(const MotionPredictor& predictor, cons
         prior.translation_sigma *= std::sqrt(scales.translation);
         prior.noise_ratio *= std::sqrt(scales.noise_ratio);
         prior.range_scale_sigma *= std::sqrt(scales.noise_ratio);
-        // Held at the run's scales, or (lowered only) learning the scene's own from them.
-        block_options.hold_registration_prior_scale = pooled.registration->use() == RegistrationScalePool::Use::kHold;
       }
     }
     run_block(predictor, block_options, measurements, std::span(scenes).subspan(first, count), by_arrival, estimated,

@@ -59,9 +59,8 @@ struct FilterRun {
 // is the place of the list's first scene in the whole run); null: each scene learns alone.
 struct ScenePools {
   // The registration prior's scales (registration_scale_pool.hpp), one pool for the scenes of fixed
-  // sensors and one for those whose sensors move (sensor_motion.hpp): each scene runs with the prior
-  // scaled by its pool's estimate for its place in the list (held there, or learning on from it) and
-  // adds its evidence; scenes before the pool has enough learn their own scales as without it.
+  // sensors and one for those whose sensors move (sensor_motion.hpp): each scene starts from its
+  // pool's evidence for its place in the list (or, lowered only, from its estimate) and adds its own.
   PerSensorMotion<RegistrationScalePool*> registration;
   // Q's scales (process_noise_pool.hpp): each scene starts them from the pool's evidence for its place
   // in the list, learns on from its own innovations, and adds what they said.

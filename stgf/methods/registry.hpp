@@ -15,8 +15,9 @@
 namespace stgf {
 
 // Where `ours` learns the registration prior's scales κ_t, κ_n (core/registration_prior_scale.hpp):
-// each scene alone; the run's scenes pooled, every scene held at their estimate; or the pool lowering
-// a scale where its estimate is below the calibration's, each scene learning its own from there
+// each scene alone; the run's scenes pooled, every scene starting from the earlier scenes' evidence
+// and learning on from its own; or the pool lowering a scale where its estimate is below the
+// calibration's, each scene learning its own from there
 // (core/registration_scale_pool.hpp, design §1.7).
 enum class RegistrationScaleLearning { kPerScene, kAcrossScenes, kShrinkAcrossScenes };
 

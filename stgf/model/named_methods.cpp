@@ -105,7 +105,7 @@ NamedMethodRun::NamedMethodRun(const std::string& method, const MethodConfig& co
       report_.registration_scale_learning[sensors] = learning;
       if (learning != RegistrationScaleLearning::kPerScene) {
         registration_scales_[sensors].emplace(learning == RegistrationScaleLearning::kAcrossScenes
-                                                  ? RegistrationScalePool::Use::kHold
+                                                  ? RegistrationScalePool::Use::kEvidence
                                                   : RegistrationScalePool::Use::kLowerOnly);
       }
     }

@@ -44,8 +44,8 @@ bool learns_process_noise_across_scenes(const OursSettings& settings, const nloh
 // (sensor_motion.hpp): as set (for both), or (auto) per scene for a model of one benchmark, whose prior
 // was calibrated on sensors like the data's, and across the run's scenes for a model trained on several,
 // whose prior is a compromise between sensors registered tens of times apart (cameras' centimetres,
-// vehicles' GPS decimetres): for moving sensors held at the scenes' estimate (their rigid pose errors
-// fit the offsets' model), for fixed ones only lowered by it (a camera's height error does not fit it,
+// vehicles' GPS decimetres): for moving sensors from the earlier scenes' evidence (their rigid pose
+// errors fit the offsets' model), for fixed ones only lowered by the scenes' estimate (a camera's height error does not fit it,
 // and the scenes together would widen the prior too far; design §1.7).
 RegistrationScaleLearning registration_scale_learning_for(const OursSettings& settings, const nlohmann::json& metadata,
                                                           SensorMotion sensors);

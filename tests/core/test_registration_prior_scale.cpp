@@ -12,6 +12,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <memory>
 #include <limits>
 #include <random>
 #include <string>
@@ -192,6 +193,35 @@ TEST(RegistrationPriorScale, FindsTheSizeOfSimulatedOffsets) {
     }
     EXPECT_LT(std::abs(log_ratio_sum / (2 * seeds)), std::log(1.3)) << "κ = " << true_scale;
   }
+}
+
+// Started from other scenes' summed evidence (registration_scale_pool.hpp), a short scene whose views
+// are off by 5 times the prior's σ takes their size at once, where alone its prior holds it near 1.
+TEST(RegistrationPriorScale, StartsFromOtherScenesEvidence) {
+  const double true_scale = 25.0;
+  std::vector<double> pooled;
+  for (std::uint64_t seed = 0; seed < 20; ++seed) {
+    JointRegistration other(kPrior);
+    run(other, make_scene(4, 3, 6, true_scale, 300 + seed), /*adapt=*/true);
+    const std::vector<double> grid = other.prior_scale_log_likelihood_grid();
+    if (pooled.empty()) pooled.assign(grid.size(), 0.0);
+    for (std::size_t j = 0; j < grid.size(); ++j) pooled[j] += grid[j];
+  }
+  const Scene scene = make_scene(4, 3, 6, true_scale, 999);
+  JointRegistration alone(kPrior), started(kPrior);
+  started.start_prior_scale_from(std::make_shared<const std::vector<double>>(pooled));
+  EXPECT_TRUE(started.prior_scale_estimated());
+  EXPECT_GT(started.prior_scales().translation, 0.5 * true_scale) << "from the start, before its own evidence";
+  run(alone, scene, /*adapt=*/true);
+  run(started, scene, /*adapt=*/true);
+  EXPECT_LT(alone.prior_scales().translation, 0.5 * true_scale);
+  for (const double scale : {started.prior_scales().translation, started.prior_scales().noise_ratio}) {
+    EXPECT_GT(scale, 0.5 * true_scale);
+    EXPECT_LT(scale, 2.0 * true_scale);
+  }
+  RegistrationPriorScale bad;
+  EXPECT_THROW(bad.start_from(std::make_shared<const std::vector<double>>(3, 0.0)), std::invalid_argument);
+  EXPECT_THROW(bad.start_from(nullptr), std::invalid_argument);
 }
 
 TEST(RegistrationPriorScale, FindsEachScaleWhenTheyDiffer) {

@@ -1,7 +1,8 @@
 // SPDX-License-Identifier: Apache-2.0
 // The registration prior's scales pooled across scenes (core/registration_scale_pool.hpp): the argmax
 // of the summed grids of the epochs before a scene's own, with each scene's grid shifted by the scales
-// it ran with; nothing in the first epoch; scenes in list order only.
+// it ran with, or those grids themselves as a scene's start; nothing in the first epoch; scenes in list
+// order only.
 
 #include "stgf/core/registration_scale_pool.hpp"
 
@@ -72,7 +73,29 @@ TEST(RegistrationScalePool, LowersOnlyWhenSoUsed) {
   expect_scales(pooled(22, 16), std::exp2(-4.5), std::exp2(-0.5));  // κ_n = 2^3.5 → 1, rounded down to the grid
   expect_scales(pooled(62, 0), 1.0, std::exp2(-3.0));  // κ_t = 2^5.5 → 1, κ_n = 2^-2.5 rounded down to the grid
   EXPECT_EQ(RegistrationScalePool(RegistrationScalePool::Use::kLowerOnly).use(), RegistrationScalePool::Use::kLowerOnly);
-  EXPECT_EQ(RegistrationScalePool().use(), RegistrationScalePool::Use::kHold);
+  EXPECT_EQ(RegistrationScalePool().use(), RegistrationScalePool::Use::kEvidence);
+}
+
+// Use::kEvidence: a scene starts from the summed grids of the epochs before its own, as they are.
+TEST(RegistrationScalePool, GivesTheEpochsBeforeAScenesOwnAsItsStart) {
+  // As the filter runner asks: a scene's start, then its grid, in list order.
+  RegistrationScalePool pool;
+  EXPECT_FALSE(pool.evidence_for(0).has_value());
+  pool.add(0, peaked_at(40, 8), Point{});
+  const std::vector<double> first = *pool.evidence_for(1);  // scene 0's
+  pool.add(1, peaked_at(41, 8), Point{});
+  pool.add(2, peaked_at(42, 8), Point{});
+  const std::vector<double> both = *pool.evidence_for(3);  // scenes 0 and 1 ([2, 4) is one epoch)
+  const std::vector<double> zero = peaked_at(40, 8), one = peaked_at(41, 8);
+  ASSERT_EQ(both.size(), zero.size());
+  for (std::size_t j = 0; j < zero.size(); ++j) {
+    EXPECT_EQ(first[j], zero[j]);
+    EXPECT_EQ(both[j], zero[j] + one[j]);
+  }
+  // A scene that ran with the prior scaled cannot be a start on the calibration's grid.
+  RegistrationScalePool shifted;
+  shifted.add(0, peaked_at(40, 8), Point{44, 8});
+  EXPECT_THROW(shifted.evidence_for(1), std::logic_error);
 }
 
 TEST(RegistrationScalePool, RefusesScenesOutOfOrderAndMalformedGrids) {

@@ -213,7 +213,7 @@ TEST(NamedMethodRun, PoolsTheRegistrationScalesOfMovingSensorsApart) {
   };
   PerSensorMotion<double> translation;
   for (const bool moving : {false, true}) {
-    RegistrationScalePool lowered(RegistrationScalePool::Use::kLowerOnly), held(RegistrationScalePool::Use::kHold);
+    RegistrationScalePool lowered(RegistrationScalePool::Use::kLowerOnly), held(RegistrationScalePool::Use::kEvidence);
     const std::vector<Measurement> rows = offset_scenes(moving);
     const FilterRun run = run_spatiotemporal_graph_filter(model(), options, rows, false,
                                                           ScenePools{.registration = {.fixed = &lowered, .moving = &held}});
