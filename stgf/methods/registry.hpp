@@ -34,8 +34,7 @@ struct OursSettings {
   std::optional<bool> process_noise_scale_across_scenes;
   MotionFallback motion_fallback = MotionFallback::kAuto;  // constant velocity where it predicts better
   bool adapt_registration_prior = true;       // scale the registration prior from the views' disagreements
-  // Unset (auto): for a model trained on several benchmarks kAcrossScenes where the sensors move and
-  // kShrinkAcrossScenes where they stand still, kPerScene for a model of one
+  // Unset (auto): kAcrossScenes where the sensors move and kShrinkAcrossScenes where they stand still
   // (registration_scale_learning_for).
   std::optional<RegistrationScaleLearning> registration_scale_learning;
   bool per_view_tracks = false;               // the paper's per-view tracks instead of one per object

@@ -158,24 +158,19 @@ TEST(NamedMethodRun, LearnsQAcrossScenesForAModelOfSeveralBenchmarks) {
   EXPECT_TRUE(learns_process_noise_across_scenes(across, one));
 }
 
-// The registration prior's scales likewise, for a model trained on several benchmarks (a compromise
-// prior): learned across scenes and held there where the sensors move, only lowered by the scenes
-// where they stand still; per scene for a model of one; as set otherwise, whatever the sensors.
-TEST(NamedMethodRun, LearnsRegistrationScalesAcrossScenesForAModelOfSeveralBenchmarks) {
+// The registration prior's scales are learned across scenes by default: from the earlier scenes'
+// evidence where the sensors move, only lowered by the scenes where they stand still; as set
+// otherwise, whatever the sensors.
+TEST(NamedMethodRun, LearnsRegistrationScalesAcrossScenesByTheSensorsMotion) {
   using enum RegistrationScaleLearning;
-  const nlohmann::json several = {{"benchmark", {"mpl", "cad"}}};
-  const nlohmann::json one = {{"benchmark", "mpl"}};
   const OursSettings automatic;
-  EXPECT_EQ(registration_scale_learning_for(automatic, several, SensorMotion::kFixed), kShrinkAcrossScenes);
-  EXPECT_EQ(registration_scale_learning_for(automatic, several, SensorMotion::kMoving), kAcrossScenes);
+  EXPECT_EQ(registration_scale_learning_for(automatic, SensorMotion::kFixed), kShrinkAcrossScenes);
+  EXPECT_EQ(registration_scale_learning_for(automatic, SensorMotion::kMoving), kAcrossScenes);
   for (SensorMotion sensors : kSensorMotions) {
-    EXPECT_EQ(registration_scale_learning_for(automatic, one, sensors), kPerScene);
-    EXPECT_EQ(registration_scale_learning_for(automatic, nlohmann::json::object(), sensors), kPerScene);
     for (const RegistrationScaleLearning set : {kPerScene, kAcrossScenes, kShrinkAcrossScenes}) {
       OursSettings settings;
       settings.registration_scale_learning = set;
-      EXPECT_EQ(registration_scale_learning_for(settings, several, sensors), set);
-      EXPECT_EQ(registration_scale_learning_for(settings, one, sensors), set);
+      EXPECT_EQ(registration_scale_learning_for(settings, sensors), set);
     }
   }
 }
