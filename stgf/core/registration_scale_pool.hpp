@@ -19,15 +19,15 @@
 // summed likelihood peaks at their true size. A run keeps one pool for scenes of fixed sensors and one
 // for scenes whose sensors move (filter_runner.hpp).
 //
-// Use. As evidence (`registration_prior_scale: across-scenes`; for a model trained on several
-// benchmarks, the default where the sensors move: sensor_motion.hpp), a scene starts from the earlier
+// Use. As evidence (`registration_prior_scale: across-scenes`; the default where the sensors move:
+// sensor_motion.hpp), a scene starts from the earlier
 // epochs' summed log likelihoods: they join its prior and its own disagreements in every estimate it
 // makes (RegistrationPriorScale::start_from), the hierarchical posterior of one pair of scales shared
 // by the run's scenes. With many scenes before it, their evidence decides; with few, the scene's own
 // counts as much as any of theirs (design §1.7: cad val with the general model, the first 16 scenes'
 // NEES 13.5 → 5.2 against holding each scene at the earlier scenes' argmax after 16 of them, the rest
-// 4.1 → 3.8). Lowered only (`shrink-across-scenes`; for such a model the default where the sensors
-// stand still), each
+// 4.1 → 3.8). Lowered only (`shrink-across-scenes`; the default where the sensors stand
+// still), each
 // scale is taken to the estimate only where that is below the calibration's (κ = 1), and the scene
 // learns its own scales from there as before. Why only down: where the offsets do not fit the model
 // (a camera's height error moves ground points along the ray in proportion to range, which a model

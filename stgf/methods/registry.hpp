@@ -34,8 +34,8 @@ struct OursSettings {
   std::optional<bool> process_noise_scale_across_scenes;
   MotionFallback motion_fallback = MotionFallback::kAuto;  // constant velocity where it predicts better
   bool adapt_registration_prior = true;       // scale the registration prior from the views' disagreements
-  // Unset (auto): kAcrossScenes where the sensors move and kShrinkAcrossScenes where they stand still
-  // (registration_scale_learning_for).
+  // Unset (auto): kAcrossScenes where the sensors move; where they stand still kShrinkAcrossScenes for
+  // a model trained on several benchmarks, kPerScene for a model of one (registration_scale_learning_for).
   std::optional<RegistrationScaleLearning> registration_scale_learning;
   bool per_view_tracks = false;               // the paper's per-view tracks instead of one per object
   double lag_window = 1.0;                    // s: how late a message may arrive and still be fused in place

@@ -56,10 +56,12 @@ bool learns_process_noise_across_scenes(const OursSettings& settings, const nloh
   return trained_on_several_benchmarks(metadata);
 }
 
-RegistrationScaleLearning registration_scale_learning_for(const OursSettings& settings, SensorMotion sensors) {
+RegistrationScaleLearning registration_scale_learning_for(const OursSettings& settings, const nlohmann::json& metadata,
+                                                          SensorMotion sensors) {
   if (settings.registration_scale_learning) return *settings.registration_scale_learning;
-  return sensors == SensorMotion::kMoving ? RegistrationScaleLearning::kAcrossScenes
-                                          : RegistrationScaleLearning::kShrinkAcrossScenes;
+  if (sensors == SensorMotion::kMoving) return RegistrationScaleLearning::kAcrossScenes;
+  return trained_on_several_benchmarks(metadata) ? RegistrationScaleLearning::kShrinkAcrossScenes
+                                                 : RegistrationScaleLearning::kPerScene;
 }
 
 void MethodRunReport::add(const MethodRunReport& later) {
@@ -99,7 +101,7 @@ NamedMethodRun::NamedMethodRun(const std::string& method, const MethodConfig& co
   if (method_ == "sttp") single_view_ = std::make_unique<SingleViewPredictionStream>(*model_);
   if (model_ != nullptr) {
     for (SensorMotion sensors : kSensorMotions) {
-      const RegistrationScaleLearning learning = registration_scale_learning_for(config_.ours, sensors);
+      const RegistrationScaleLearning learning = registration_scale_learning_for(config_.ours, model_->metadata(), sensors);
       report_.registration_scale_learning[sensors] = learning;
       if (learning != RegistrationScaleLearning::kPerScene) {
         registration_scales_[sensors].emplace(learning == RegistrationScaleLearning::kAcrossScenes

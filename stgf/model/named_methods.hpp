@@ -41,12 +41,15 @@ FilterOptions filter_options_for(const OursSettings& settings, const nlohmann::j
 bool learns_process_noise_across_scenes(const OursSettings& settings, const nlohmann::json& metadata);
 
 // Where `ours` learns the registration prior's scales for scenes of fixed or of moving sensors
-// (sensor_motion.hpp): as set (for both), or (auto) across the run's scenes — where the sensors move,
+// (sensor_motion.hpp): as set (for both), or (auto) where the sensors move across the run's scenes,
 // each scene starting from the earlier scenes' evidence (a moving platform's rigid pose error fits the
-// offsets' model); where they stand still, only lowered by the scenes' estimate (a camera's height
-// error does not fit it, and the scenes together would widen the prior too far). Chosen on the
-// validation splits for every model, of one benchmark or several (design §1.7).
-RegistrationScaleLearning registration_scale_learning_for(const OursSettings& settings, SensorMotion sensors);
+// offsets' model), for every model; where they stand still, for a model trained on several
+// benchmarks, whose prior is a compromise between sensors registered tens of times apart, only
+// lowered by the scenes' estimate (a camera's height error does not fit the offsets' model, and the
+// scenes together would widen the prior too far), and per scene for a model of one, whose prior was
+// calibrated on cameras like the data's (design §1.7).
+RegistrationScaleLearning registration_scale_learning_for(const OursSettings& settings, const nlohmann::json& metadata,
+                                                          SensorMotion sensors);
 
 // What a run did that its caller should tell the user about.
 struct MethodRunReport {

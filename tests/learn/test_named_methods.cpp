@@ -158,19 +158,26 @@ TEST(NamedMethodRun, LearnsQAcrossScenesForAModelOfSeveralBenchmarks) {
   EXPECT_TRUE(learns_process_noise_across_scenes(across, one));
 }
 
-// The registration prior's scales are learned across scenes by default: from the earlier scenes'
-// evidence where the sensors move, only lowered by the scenes where they stand still; as set
+// The registration prior's scales by default: where the sensors move, learned across scenes from the
+// earlier scenes' evidence for every model; where they stand still, only lowered by the run's scenes
+// for a model trained on several benchmarks (a compromise prior), per scene for a model of one; as set
 // otherwise, whatever the sensors.
 TEST(NamedMethodRun, LearnsRegistrationScalesAcrossScenesByTheSensorsMotion) {
   using enum RegistrationScaleLearning;
+  const nlohmann::json several = {{"benchmark", {"mpl", "cad"}}};
+  const nlohmann::json one = {{"benchmark", "mpl"}};
   const OursSettings automatic;
-  EXPECT_EQ(registration_scale_learning_for(automatic, SensorMotion::kFixed), kShrinkAcrossScenes);
-  EXPECT_EQ(registration_scale_learning_for(automatic, SensorMotion::kMoving), kAcrossScenes);
-  for (SensorMotion sensors : kSensorMotions) {
-    for (const RegistrationScaleLearning set : {kPerScene, kAcrossScenes, kShrinkAcrossScenes}) {
-      OursSettings settings;
-      settings.registration_scale_learning = set;
-      EXPECT_EQ(registration_scale_learning_for(settings, sensors), set);
+  EXPECT_EQ(registration_scale_learning_for(automatic, several, SensorMotion::kFixed), kShrinkAcrossScenes);
+  EXPECT_EQ(registration_scale_learning_for(automatic, one, SensorMotion::kFixed), kPerScene);
+  EXPECT_EQ(registration_scale_learning_for(automatic, nlohmann::json::object(), SensorMotion::kFixed), kPerScene);
+  for (const nlohmann::json& metadata : {several, one, nlohmann::json::object()}) {
+    EXPECT_EQ(registration_scale_learning_for(automatic, metadata, SensorMotion::kMoving), kAcrossScenes);
+    for (SensorMotion sensors : kSensorMotions) {
+      for (const RegistrationScaleLearning set : {kPerScene, kAcrossScenes, kShrinkAcrossScenes}) {
+        OursSettings settings;
+        settings.registration_scale_learning = set;
+        EXPECT_EQ(registration_scale_learning_for(settings, metadata, sensors), set);
+      }
     }
   }
 }
