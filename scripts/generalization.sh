@@ -318,15 +318,15 @@ cat >> "$out/generalization.md" <<'NOTES'
   to constant velocity is what counts: at a third of mpl's rate `ours` gains 0.4 % and becomes
   more honest (0.0458 m / NEES 2.74 against 0.0460 / 2.99), `ours-l` 24 % (0.105 against 0.139 m); on ETH/UCY the mpl model's `ours`
   goes from 1–10 % below `wls`, NEES 4.3–5.3, to 6–12 % below it on all five scenes, NEES 3.2–3.4.
-  At mpl's own rate nothing changes. On cad it gains 0.2 % at 10 Hz (0.3455 against
-  0.3461) and 2.0 % (0.3661 against 0.3736) at 2 frames/s.
+  At mpl's own rate nothing changes. On cad it gains 0.2 % at 10 Hz (0.3396 against
+  0.3402) and 2.4 % (0.3579 against 0.3666) at 2 frames/s.
 - **Constant velocity where Φ does not fit** (design §1.13; compare `ours` with `ours-motion-off`).
   With Q calibrated at longer intervals Φ forecasts only from histories at about its training rate,
   and the per-scene choice changes little in these tables (at most 0.6 %, on the cad split turned by 90°). It mattered with
   the earlier models: on ETH/UCY's eth scene the mpl model trained with `--long-intervals 0` went
   from 0.1379 to 0.1174 m with it (NEES 30.7 → 13.1; 2026-11-23, before Q's scale learned from the
   views' combined innovation), still behind `wls`.
-- **cad at 2 frames/s** (5 s scenes, every fifth step of KITTI's 10 Hz): `ours` 0.3661 m, NEES 2.73, against
+- **cad at 2 frames/s** (5 s scenes, every fifth step of KITTI's 10 Hz): `ours` 0.3579 m, NEES 2.86, against
   `wls` 0.4868 and `mmt` 0.4845. `ours-l` is poor there (0.63 m): at 0.5 s per frame a
   track's second frame is predicted with no velocity. cad's validation scenes are 1 s long, so its
   coasting Q is calibrated to 0.4 s only; a track unseen for one frame (1 s) coasts all the same,
@@ -339,15 +339,12 @@ cat >> "$out/generalization.md" <<'NOTES'
   measurements alone: on the mpl test split with perfectly calibrated cameras `ours` is 24 % below
   `wls` (0.0321 against 0.0420 m; NEES 3.31), though the offsets it allows for cost it 1.6 % there
   (`ours-registration-off` 0.0316 m, NEES 4.00); on cad at 2 frames/s without GPS
-  errors it merely ties `wls` (0.2064 against 0.2064 m) and is 1.4 % behind `mmt` (0.2035), with
-  NEES 1.37, where `ours-registration-off` is 4.9 % ahead of `mmt` (0.1936, NEES 2.94): the
-  registration prior, calibrated with GPS errors, is scaled down per scene from the views'
-  disagreements, but at 2 frames/s they are few and its prior keeps κ near 1 (κ_t and κ_n median
-  0.30). At 0.5 s per
-  frame the cad model hands every track to constant velocity with a Q calibrated for GPS-biased
-  fused histories, wider than these need. `stgf run` says so (its log under that table: σ at most
-  0.17–0.18 m, α at most 0.60); set to those, `ours` is 0.2010 m (NEES 1.74), to a tenth of them 0.1939
-  (NEES 2.78), ahead of `mmt` either way (not in the tables: a config a user would write).
+  errors it is 4.7 % ahead of `mmt` (0.1939 against 0.2035 m, NEES 2.81), as accurate as
+  `ours-registration-off` (0.1936, NEES 2.94): the registration prior, calibrated with GPS errors,
+  is scaled down from the views' disagreements by the run's scenes together (κ_t and κ_n median
+  below 0.02; design §1.7). Learned per scene, as until 2026-11-28, the few disagreements of a
+  scene at 2 frames/s kept κ near 1 (median 0.30) and `ours` tied `wls` (0.2064 m, NEES 1.37), behind
+  `mmt`.
 - **`stgf run` says when the registration prior does not fit** (design §1.7; the logs under the
   tables). It spoke on every case whose registration differs from the training data's — 0×, 3× and
   5× the calibration error (synchronised or not), cad without GPS errors, ETH/UCY's eth scene with
@@ -357,11 +354,11 @@ cat >> "$out/generalization.md" <<'NOTES'
   σ at least (0.094, 0.059) m and α at least 1.36, where 3× the calibration is (0.102, 0.064) m and
   1.47; at 5×, at least (0.160, 0.101) m and 2.3 against (0.169, 0.107) m and 2.45.
 - **The world frame's heading.** Turned by 90° about the vertical, the mpl test split loses
-  0.8 % (0.0398 against 0.0395), the cad one 0.1 % (0.3457 against 0.3455), though 83 % of cad's
+  0.8 % (0.0398 against 0.0395), the cad one 0.2 % (0.3390 against 0.3396), though 83 % of cad's
   training motion runs along +x. The registration's offset in noise units reaches each measurement
   through R's Cholesky factor along its own ray (design §1.1, §1.7), which turns with the world
   frame; with the factor in the world's axes the turned splits lost 1.8 % and 2.5 %, and a `--rotate`
-  model no less. A cad model trained with `--rotate` gives 0.3443 on the split as given and 0.3440
+  model no less. A cad model trained with `--rotate` gives 0.3391 on the split as given and 0.3387
   turned: what is left on mpl is Φ's. The general model is trained with `--rotate` (below).
 - Moving the world origin 4000 km away changes nothing: the table is that of docs/results.md's
   mpl test split (the filter works in relative coordinates and starts its tracks from the

@@ -26,8 +26,8 @@
 // by the run's scenes. With many scenes before it, their evidence decides; with few, the scene's own
 // counts as much as any of theirs (design §1.7: cad val with the general model, the first 16 scenes'
 // NEES 13.5 → 5.2 against holding each scene at the earlier scenes' argmax after 16 of them, the rest
-// 4.1 → 3.8). Lowered only (`shrink-across-scenes`; the default where the sensors stand
-// still), each
+// 4.1 → 3.8). Lowered only (`shrink-across-scenes`; for a model of several benchmarks the
+// default where the sensors stand still), each
 // scale is taken to the estimate only where that is below the calibration's (κ = 1), and the scene
 // learns its own scales from there as before. Why only down: where the offsets do not fit the model
 // (a camera's height error moves ground points along the ray in proportion to range, which a model
