@@ -163,16 +163,17 @@ void log_method_report(const std::string& method, const MethodConfig& config, co
     return !record.scales.empty() || record.scenes_without > 0;
   };
   const bool moving = had_scenes(report.registration_prior_scales.moving);
+  const bool any = moving || had_scenes(report.registration_prior_scales.fixed);
+  const RegistrationPrior prior =
+      any && model != nullptr ? resolve_registration_prior(config.ours, model->metadata(), model_path) : RegistrationPrior{};
   for (SensorMotion sensors : kSensorMotions) {
     const LearnedRegistrationScales& record = report.registration_prior_scales[sensors];
     if (!had_scenes(record) || model == nullptr) continue;
-    log_registration_prior_scales(
-        method, record,
-        sensors == SensorMotion::kMoving ? " whose sensors move"
-        : moving                         ? " whose sensors stand still"
-                                         : "",
-        resolve_registration_prior(config.ours, model->metadata(), model_path),
-        report.registration_scale_learning[sensors]);
+    log_registration_prior_scales(method, record,
+                                  sensors == SensorMotion::kMoving ? " whose sensors move"
+                                  : moving                         ? " whose sensors stand still"
+                                                                   : "",
+                                  prior, report.registration_scale_learning[sensors]);
   }
   if (report.late_rows > 0) {
     spdlog::info("{}: {} late row(s) fused in their place in time (arrived after later ones, within the lag window "

@@ -72,10 +72,7 @@ void MethodRunReport::add(const MethodRunReport& later) {
   late_measurements += later.late_measurements;
   registration_missing = registration_missing || later.registration_missing;
   gating.add(later.gating);
-  for (SensorMotion sensors : kSensorMotions) {
-    registration_prior_scales[sensors].add(later.registration_prior_scales[sensors]);
-    registration_scale_learning[sensors] = later.registration_scale_learning[sensors];
-  }
+  for (SensorMotion sensors : kSensorMotions) registration_prior_scales[sensors].add(later.registration_prior_scales[sensors]);
   motion_choice.add(later.motion_choice);
   if (later.process_noise_scales_across_scenes) process_noise_scales_across_scenes = later.process_noise_scales_across_scenes;
 }
@@ -93,10 +90,7 @@ std::vector<Gaussian3> run_named_method(const std::string& method, const MethodC
 
 NamedMethodRun::NamedMethodRun(const std::string& method, const MethodConfig& config, const TrainedMotionModel* model,
                                const std::string& model_path)
-    : method_(method),
-      config_(config),
-      model_(model),
-      model_path_(model_path) {
+    : method_(method), config_(config), model_(model), model_path_(model_path) {
   if (is_learned_method(method_) && model_ == nullptr) throw std::invalid_argument("--method " + method_ + " needs --model");
   if (method_ == "sttp") single_view_ = std::make_unique<SingleViewPredictionStream>(*model_);
   if (model_ != nullptr) {
@@ -142,7 +136,6 @@ std::vector<Gaussian3> NamedMethodRun::add(std::span<const Measurement> rows) {
   part.late_measurements = run.late_measurements;
   part.gating = std::move(run.gating);
   part.registration_prior_scales = std::move(run.registration_prior_scales);
-  part.registration_scale_learning = report_.registration_scale_learning;
   part.motion_choice = run.motion_choice;
   if (pools.process_noise != nullptr) part.process_noise_scales_across_scenes = process_noise_scales_.scales();
   report_.add(part);

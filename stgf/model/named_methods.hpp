@@ -61,7 +61,8 @@ struct MethodRunReport {
   bool registration_missing = false;  // the model holds no registration calibration (offsets taken as zero)
   GatingSummary gating;               // what the χ² gate did (its restarts are in restarted_tracks too)
   // The registration prior's scales of the scenes of fixed and of moving sensors (filter_runner.hpp),
-  // and where they were learned (registration_scale_learning_for; ours only).
+  // and where they were learned (registration_scale_learning_for; ours only: set once by
+  // NamedMethodRun for the whole run, not added part by part).
   PerSensorMotion<LearnedRegistrationScales> registration_prior_scales;
   PerSensorMotion<RegistrationScaleLearning> registration_scale_learning;
   MotionChoiceSummary motion_choice;              // which motion the scenes followed
