@@ -393,6 +393,8 @@ py::dict summary_to_dict(const ErrorSummary& summary) {
   out["rel_de"] = summary.relative_displacement_error;
   out["nees_mean"] = summary.nees_mean;
   out["nees_in_95"] = summary.nees_share_in_95;
+  out["nees_horizontal_mean"] = summary.nees_horizontal_mean;  // x, y: 2 when calibrated
+  out["nees_vertical_mean"] = summary.nees_vertical_mean;      // z: 1 when calibrated
   return out;
 }
 

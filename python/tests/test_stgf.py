@@ -206,6 +206,8 @@ class TestFilesAndMethods(unittest.TestCase):
         self.assertEqual(direct["rows"], scores[0]["rows"])
         self.assertAlmostEqual(direct["de"], scores[0]["de"], places=8)  # the CSV rounds
         self.assertAlmostEqual(direct["nees_mean"], scores[0]["nees_mean"], places=5)
+        self.assertAlmostEqual(direct["nees_horizontal_mean"], scores[0]["nees_horizontal_mean"], places=5)
+        self.assertAlmostEqual(direct["nees_vertical_mean"], scores[0]["nees_vertical_mean"], places=5)
 
     def test_learned_method_without_a_model_uses_the_general_model(self):
         shipped = stgf.general_model()

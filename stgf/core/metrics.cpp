@@ -10,6 +10,13 @@ void ErrorAccumulator::add(const Gaussian3& estimate, const Vector3d& truth,
   ++rows_;
   displacement_sum_ += displacement;
   nees_sum_ += nees;
+  // The marginals: (x, y) under P̂'s upper-left block [a b; b d], whose inverse is [d −b; −b a] / (ad − b²);
+  // z under P̂_zz.
+  const Matrix3d& p = estimate.covariance();
+  const Vector3d error = estimate.mean() - truth;
+  const double x = error.x(), y = error.y();
+  nees_horizontal_sum_ += (p(1, 1) * x * x - 2.0 * p(0, 1) * x * y + p(0, 0) * y * y) / (p(0, 0) * p(1, 1) - p(0, 1) * p(0, 1));
+  nees_vertical_sum_ += error.z() * error.z() / p(2, 2);
   if (nees >= kChiSquare3Lower95 && nees <= kChiSquare3Upper95) ++nees_inside_;
   if (sensor_position) {
     const double range = (truth - *sensor_position).norm();
@@ -28,6 +35,8 @@ ErrorSummary ErrorAccumulator::summary() const {
   summary.displacement_error = displacement_sum_ / n;
   summary.nees_mean = nees_sum_ / n;
   summary.nees_share_in_95 = static_cast<double>(nees_inside_) / n;
+  summary.nees_horizontal_mean = nees_horizontal_sum_ / n;
+  summary.nees_vertical_mean = nees_vertical_sum_ / n;
   if (rows_with_range_ == rows_) summary.relative_displacement_error = relative_displacement_sum_ / n;
   return summary;
 }

@@ -35,6 +35,20 @@ TEST(Metrics, HandComputedRows) {
   EXPECT_DOUBLE_EQ(summary.relative_displacement_error, (0.5 + 0.5) / 2);
   EXPECT_DOUBLE_EQ(summary.nees_mean, (25.0 + 0.25) / 2);
   EXPECT_DOUBLE_EQ(summary.nees_share_in_95, 0.5);
+  EXPECT_DOUBLE_EQ(summary.nees_horizontal_mean, (25.0 + 0.0) / 2);
+  EXPECT_DOUBLE_EQ(summary.nees_vertical_mean, (0.0 + 0.25) / 2);
+}
+
+// The horizontal marginal uses P̂'s x-y block, not the inverse's: with x and y correlated by 0.8, an
+// error (1, 1) has e_hᵀ P_hh⁻¹ e_h = 2 / (1 + 0.8); z's variance and its correlation with x play no part.
+TEST(Metrics, NeesByDirectionUsesTheMarginals) {
+  Matrix3d covariance;
+  covariance << 1.0, 0.8, 0.5, 0.8, 1.0, 0.0, 0.5, 0.0, 4.0;
+  ErrorAccumulator accumulator;
+  accumulator.add(Gaussian3::from_covariance(Vector3d(1, 1, 1), covariance), Vector3d::Zero(), std::nullopt);
+  const ErrorSummary summary = accumulator.summary();
+  EXPECT_NEAR(summary.nees_horizontal_mean, 2.0 / 1.8, 1e-12);
+  EXPECT_NEAR(summary.nees_vertical_mean, 0.25, 1e-12);
 }
 
 TEST(Metrics, RelativeErrorNeedsEverySensor) {
@@ -69,6 +83,9 @@ TEST(Metrics, CalibratedErrorsGiveNeesThree) {
   const ErrorSummary summary = accumulator.summary();
   EXPECT_NEAR(summary.nees_mean, 3.0, 5 * std::sqrt(6.0 / rows));
   EXPECT_NEAR(summary.nees_share_in_95, 0.95, 5 * std::sqrt(0.95 * 0.05 / rows));
+  // The marginals are χ²(2) and χ²(1): variances 4 and 2.
+  EXPECT_NEAR(summary.nees_horizontal_mean, 2.0, 5 * std::sqrt(4.0 / rows));
+  EXPECT_NEAR(summary.nees_vertical_mean, 1.0, 5 * std::sqrt(2.0 / rows));
 }
 
 }  // namespace
