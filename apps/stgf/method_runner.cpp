@@ -30,27 +30,32 @@ void log_registration_prior_scales(const std::string& method, const LearnedRegis
   const std::vector<RegistrationPriorScales>& learned = record.scales;
   const std::size_t without = record.scenes_without;
   if (!learned.empty()) {
-    std::vector<double> translation, noise_ratio;
+    std::vector<double> translation, noise_ratio, vertical;
     for (const RegistrationPriorScales& scales : learned) {
       translation.push_back(scales.translation);
       noise_ratio.push_back(scales.noise_ratio);
+      vertical.push_back(scales.vertical);
     }
     const auto at = [](const std::vector<double>& sorted, double q) {
       return sorted[static_cast<std::size_t>(q * static_cast<double>(sorted.size() - 1) + 0.5)];
     };
     std::sort(translation.begin(), translation.end());
     std::sort(noise_ratio.begin(), noise_ratio.end());
+    std::sort(vertical.begin(), vertical.end());
     const auto quantiles = [&at](const std::vector<double>& sorted) {
       return fmt::format("median {:.2f} (10-90 %: {:.2f}-{:.2f})", at(sorted, 0.5), at(sorted, 0.1), at(sorted, 0.9));
     };
     spdlog::info("{}: registration prior scaled {} from the views' disagreements over {} scene(s){}: translation "
-                 "κ_t {}, offset in units of the noise κ_n {}; the offsets' σ is √κ times the model's calibration",
+                 "κ_t {}, offset in units of the noise κ_n {}{}; the offsets' σ is √κ times the model's calibration",
                  method,
                  learning == RegistrationScaleLearning::kAcrossScenes ? "across scenes"
                  : learning == RegistrationScaleLearning::kPerScene
                      ? "per scene"
                      : "per scene (each from the run's scales where these are below the calibration's)",
-                 learned.size(), scenes, quantiles(translation), quantiles(noise_ratio));
+                 learned.size(), scenes, quantiles(translation), quantiles(noise_ratio),
+                 prior.translation_sigma.z() == 0.0 && prior.noise_ratio.z() == 0.0
+                     ? std::string()
+                     : fmt::format(", vertical offsets κ_v {}", quantiles(vertical)));
     // Each scene's scales are held near 1 by its prior; many scenes far from 1 in one direction say
     // that the prior itself is off for these sensors.
     const auto direction = [&at](const std::vector<double>& sorted) {
@@ -61,16 +66,17 @@ void log_registration_prior_scales(const std::string& method, const LearnedRegis
     const int t = prior.translation_sigma.isZero() ? 0 : direction(translation);
     const int n = prior.noise_ratio.isZero() && prior.range_scale_sigma == 0.0 ? 0 : direction(noise_ratio);
     if (t != 0 || n != 0) {
-      const double kt = std::sqrt(at(translation, 0.5)), kn = std::sqrt(at(noise_ratio, 0.5));
+      const double kt = std::sqrt(at(translation, 0.5)), kn = std::sqrt(at(noise_ratio, 0.5)),
+                   kv = std::sqrt(at(vertical, 0.5));  // the vertical offsets' own scale
       const auto bound = [](int d) { return d > 0 ? "at least" : "at most"; };
       std::string suggestion;
       if (t != 0) {
         suggestion += fmt::format("registration_translation_sigma_m {} [{:.3g}, {:.3g}, {:.3g}]", bound(t),
                                   prior.translation_sigma.x() * kt, prior.translation_sigma.y() * kt,
-                                  prior.translation_sigma.z() * kt);
+                                  prior.translation_sigma.z() * kv);
       }
       if (n != 0 && !prior.noise_ratio.isZero()) {
-        const Vector3d ratio = prior.noise_ratio * kn;
+        const Vector3d ratio = prior.noise_ratio.cwiseProduct(Vector3d(kn, kn, kv));
         suggestion += fmt::format("{}registration_noise_ratio {} ", suggestion.empty() ? "" : ", ", bound(n));
         suggestion += ratio.isConstant(ratio.x()) ? fmt::format("{:.3g}", ratio.x())
                                                   : fmt::format("[{:.3g}, {:.3g}, {:.3g}]", ratio.x(), ratio.y(), ratio.z());

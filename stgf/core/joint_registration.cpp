@@ -17,6 +17,17 @@ using Matrix3X = Eigen::Matrix<double, 3, Eigen::Dynamic>;
 
 namespace {
 
+// Which scale of the prior (registration_prior_scale.hpp) a coordinate of β_u = (t, δ, ε) takes: the
+// translations' κ_t, the offsets in noise units' κ_n (ε, a geometric error of the sensor in relative
+// terms, with them), and the vertical ones — t_z and δ's vertical component — κ_v of their own: a
+// ground-plane camera's calibration error moves its points across the ground, not up, and the z
+// disagreements, not the ground ones, say how large the vertical offsets are.
+RegistrationPriorScale::Group offset_scale_group(int coordinate) {
+  using Group = RegistrationPriorScale::Group;
+  if (coordinate == 2 || coordinate == 5) return Group::kVertical;
+  return coordinate < 3 ? Group::kTranslation : Group::kNoiseRatio;
+}
+
 using MatrixX3 = Eigen::Matrix<double, Eigen::Dynamic, 3>;
 // A measurement's dependence on one offset block (at most 6 coordinates), on the stack.
 using BlockColumns = Eigen::Matrix<double, 3, Eigen::Dynamic, Eigen::ColMajor, 3, kOffsetSize>;
@@ -92,7 +103,7 @@ void JointRegistration::add_own_block(ViewBlocks& view) {
     basis.conservativeResize(Eigen::NoChange, basis.cols() + 1);
     basis.rightCols<1>() = OffsetVector::Unit(j);
     information.push_back(1.0 / variance);
-    groups.push_back(j < 3 ? RegistrationPriorScale::Group::kTranslation : RegistrationPriorScale::Group::kNoiseRatio);
+    groups.push_back(offset_scale_group(j));
   }
   append_block(view, basis, information, groups);
 }
@@ -539,13 +550,13 @@ bool JointRegistration::adapt_prior_scale() {
   if (!prior_scale_.update()) return false;
   // M = Λ₀/κ + the data's information: only the prior term changes.
   const RegistrationPriorScales after = prior_scale_.scales();
-  const double translation_change = 1.0 / after.translation - 1.0 / before.translation;
-  const double noise_ratio_change = 1.0 / after.noise_ratio - 1.0 / before.noise_ratio;
   for (std::size_t j = 0; j < prior_scale_.coordinates(); ++j) {
     const Group group = prior_scale_.group(j);
     if (group == Group::kFixed) continue;
     const auto index = static_cast<Eigen::Index>(j);
-    const double change = group == Group::kTranslation ? translation_change : noise_ratio_change;
+    const double change = group == Group::kTranslation ? 1.0 / after.translation - 1.0 / before.translation
+                          : group == Group::kNoiseRatio ? 1.0 / after.noise_ratio - 1.0 / before.noise_ratio
+                                                        : 1.0 / after.vertical - 1.0 / before.vertical;
     offsets_information_(index, index) += change * prior_scale_.prior_information(j);
   }
   ++version_;
@@ -554,8 +565,7 @@ bool JointRegistration::adapt_prior_scale() {
 
 OffsetMatrix JointRegistration::prior_covariance() const {
   OffsetMatrix covariance = prior_covariance_;
-  covariance.topRows<3>() *= prior_scale_.scale(RegistrationPriorScale::Group::kTranslation);
-  covariance.bottomRows<kOffsetSize - 3>() *= prior_scale_.scale(RegistrationPriorScale::Group::kNoiseRatio);
+  for (int j = 0; j < kOffsetSize; ++j) covariance.row(j) *= prior_scale_.scale(offset_scale_group(j));
   return covariance;  // diagonal
 }
 

@@ -103,19 +103,23 @@ void RegistrationPriorScale::add_vector(Eigen::Index row, const Eigen::Ref<const
   vector_.segment(row, segment.size()) += segment;
 }
 
-RegistrationPriorScale::ScaledEvidence RegistrationPriorScale::scaled_evidence() const {
-  // Split β into the scaled coordinates s and the fixed ones f; integrate f out under its prior.
+RegistrationPriorScale::ScaledEvidence RegistrationPriorScale::scaled_evidence(bool vertical) const {
+  // Split β into the coordinates whose scale is estimated, s, and the rest, f (the fixed ones, and the
+  // other scales' at their present estimates); integrate f out under its prior.
   const auto size = static_cast<Eigen::Index>(prior_information_.size());
   const Eigen::MatrixXd information = information_.topLeftCorner(size, size).selfadjointView<Eigen::Lower>();
   std::vector<Eigen::Index> scaled, fixed;
   for (std::size_t j = 0; j < groups_.size(); ++j) {
-    (groups_[j] != Group::kFixed ? scaled : fixed).push_back(static_cast<Eigen::Index>(j));
+    const bool estimated = vertical ? groups_[j] == Group::kVertical
+                                    : groups_[j] == Group::kTranslation || groups_[j] == Group::kNoiseRatio;
+    (estimated ? scaled : fixed).push_back(static_cast<Eigen::Index>(j));
   }
   ScaledEvidence evidence{information(scaled, scaled), vector_(scaled), Eigen::VectorXd(static_cast<Eigen::Index>(scaled.size())), {}};
   if (!fixed.empty()) {
     Eigen::MatrixXd fixed_information = information(fixed, fixed);
     for (std::size_t k = 0; k < fixed.size(); ++k) {
-      fixed_information(static_cast<Eigen::Index>(k), static_cast<Eigen::Index>(k)) += prior_information_[static_cast<std::size_t>(fixed[k])];
+      const auto j = static_cast<std::size_t>(fixed[k]);
+      fixed_information(static_cast<Eigen::Index>(k), static_cast<Eigen::Index>(k)) += prior_information_[j] / scale(groups_[j]);
     }
     const Eigen::LLT<Eigen::MatrixXd> factor(fixed_information);
     const Eigen::MatrixXd coupling = information(scaled, fixed);
@@ -125,7 +129,7 @@ RegistrationPriorScale::ScaledEvidence RegistrationPriorScale::scaled_evidence()
   for (std::size_t k = 0; k < scaled.size(); ++k) {
     const auto j = static_cast<std::size_t>(scaled[k]);
     evidence.prior_information(static_cast<Eigen::Index>(k)) = prior_information_[j];
-    evidence.translation.push_back(groups_[j] == Group::kTranslation);
+    evidence.translation.push_back(groups_[j] != Group::kNoiseRatio);  // scaled by κ itself, not by ρ κ
   }
   return evidence;
 }
@@ -155,11 +159,13 @@ std::array<double, RegistrationPriorScale::kGridPoints> RegistrationPriorScale::
 std::vector<double> RegistrationPriorScale::log_likelihood_grid() const {
   const ScaledEvidence evidence = scaled_evidence();
   std::vector<double> grid;
-  grid.reserve(17 * kGridPoints);
+  grid.reserve(kPooledGridSize);
   for (int ratio = -8; ratio <= 8; ++ratio) {
     const std::array<double, kGridPoints> values = log_likelihood(evidence, static_cast<double>(ratio));
     grid.insert(grid.end(), values.begin(), values.end());
   }
+  const std::array<double, kGridPoints> vertical = log_likelihood(scaled_evidence(/*vertical=*/true), 0.0);
+  grid.insert(grid.end(), vertical.begin(), vertical.end());
   return grid;
 }
 
@@ -167,6 +173,7 @@ double RegistrationPriorScale::scale(Group group) const {
   switch (group) {
     case Group::kTranslation: return translation_scale_;
     case Group::kNoiseRatio: return noise_ratio_scale_;
+    case Group::kVertical: return vertical_scale_;
     case Group::kFixed: break;
   }
   return 1.0;
@@ -208,23 +215,52 @@ struct GridPriors {
 }  // namespace
 
 void RegistrationPriorScale::start_from(std::shared_ptr<const std::vector<double>> pooled) {
-  if (pooled == nullptr || pooled->size() != static_cast<std::size_t>(kPooledRatios * kGridPoints)) {
-    throw std::invalid_argument("RegistrationPriorScale::start_from: a grid of 17 × 81 log likelihoods");
+  if (pooled == nullptr || pooled->size() != static_cast<std::size_t>(kPooledGridSize)) {
+    throw std::invalid_argument("RegistrationPriorScale::start_from: a grid of 17 × 81 and 81 log likelihoods");
   }
   pooled_ = std::move(pooled);
   const RegistrationPriorScales scales = posterior_mean();
   translation_scale_ = scales.translation;
   noise_ratio_scale_ = scales.noise_ratio;
+  vertical_scale_ = vertical_posterior_mean();
+}
+
+double RegistrationPriorScale::vertical_posterior_mean() const {
+  // One scale on the vertical coordinates, the others at their estimates (integrated out under their
+  // scaled priors): ln κ_v ~ N(0, s²) on the grid of κ_t, other scenes' evidence (start_from) added, and
+  // the posterior mean.
+  static const GridPriors priors;
+  const bool own = dimensions_ > 0.0 && std::count(groups_.begin(), groups_.end(), Group::kVertical) > 0;
+  if (!own && pooled_ == nullptr) return 1.0;
+  const std::array<double, kGridPoints> likelihood =
+      own ? log_likelihood(scaled_evidence(/*vertical=*/true), 0.0) : std::array<double, kGridPoints>{};
+  const std::size_t pooled_row = static_cast<std::size_t>(kPooledRatios * kGridPoints);
+  std::array<double, kGridPoints> weights{};
+  double peak = -std::numeric_limits<double>::infinity();
+  for (std::size_t k = 0; k < kGridPoints; ++k) {
+    const double pooled = pooled_ == nullptr ? 0.0 : (*pooled_)[pooled_row + k];
+    peak = std::max(peak, weights[k] = likelihood[k] + pooled + priors.one[k]);
+  }
+  double total = 0.0, mean = 0.0;
+  for (std::size_t k = 0; k < kGridPoints; ++k) {
+    const double weight = std::exp(weights[k] - peak);
+    total += weight;
+    mean += weight * priors.scale[k];
+  }
+  return mean / total;
 }
 
 bool RegistrationPriorScale::update() {
   if (dimensions_ < kFirstEstimateDimensions || dimensions_ < 2.0 * estimated_at_) return false;
   estimated_at_ = dimensions_;
-  const RegistrationPriorScales scales = posterior_mean();
-  const bool changed = scales.translation != translation_scale_ || scales.noise_ratio != noise_ratio_scale_;
-  translation_scale_ = scales.translation;
-  noise_ratio_scale_ = scales.noise_ratio;
-  return changed;
+  const RegistrationPriorScales before = scales();
+  // The horizontal scales with the vertical one as it stands, then the vertical one with them.
+  const RegistrationPriorScales horizontal = posterior_mean();
+  translation_scale_ = horizontal.translation;
+  noise_ratio_scale_ = horizontal.noise_ratio;
+  vertical_scale_ = vertical_posterior_mean();
+  return before.translation != translation_scale_ || before.noise_ratio != noise_ratio_scale_ ||
+         before.vertical != vertical_scale_;
 }
 
 RegistrationPriorScales RegistrationPriorScale::posterior_mean() const {

@@ -10,6 +10,7 @@
 // within each (σ_x : σ_y : σ_z, and α_along : α_across : α_vertical) stays as calibrated:
 //     t_u ~ N(0, κ_t Σ₀,t),  δ_u ~ N(0, κ_n Σ₀,δ) for every view u,   Λ₀ = Σ₀⁻¹,  Λ(κ) = Λ₀ / κ per coordinate
 // (Σ₀,δ = diag(α_along², α_across², α_vertical²)),
+// and a third, κ_v, on the vertical offsets (t_z and δ's vertical component; below).
 // Two, because sensors differ in both and not in proportion: a model calibrated on vehicles (GPS
 // offsets of decimetres, small α) meets cameras whose offsets are centimetres but grow with their
 // noise (large α). One scale on both could only take the compromise — on such cameras κ ≈ 0.9, so
@@ -57,6 +58,20 @@
 // dimensions Σ 3(k − 1)) has doubled since the last estimate and is at least
 // kFirstEstimateDimensions: O(log) estimates per scene, each O(c³) for c offset coordinates.
 //
+// The vertical offsets, κ_v (2026-11-28). A ground-plane camera's calibration error moves its points
+// across the ground and not up (they are back-projected onto it), and a vehicle's pose error is mostly
+// horizontal too; with κ_n on every component of δ, cameras worse calibrated than the training data's
+// took κ_n ≈ 8–20 from the ground disagreements, and the vertical offset common to all views, which no
+// disagreement shows, widened the height with it: z's NEES 0.1–0.2 where 1 is right, which hid an
+// overconfident ground position in the 3-D mean (docs/design.md §1.7). So t_z and δ's vertical component
+// take a scale of their own, learned from the z disagreements: the horizontal scales are estimated as
+// above with the vertical coordinates integrated out under their prior at the present κ̂_v, then κ̂_v
+// (ln κ_v ~ N(0, s²), the posterior mean on κ_t's grid) with the horizontal coordinates integrated out
+// under theirs at the new κ̂_t, κ̂_n — one pass of each per estimate. Where R couples z with x, y (a
+// stereo camera, a lidar) the two are not independent and this is the conditional likelihood of each
+// given the other's estimate. Its cost: the z disagreements no longer help tell κ_t from κ_n, which on
+// views whose R is the same for every measurement (no range dependence) only the vertical did.
+//
 // Robustness: a faulty view (gross outliers, an R far too small, an offset that jumps) disagrees
 // with the others far more than any offset the prior allows, and would drive κ up for every view.
 // So each time's evidence is weighted: with the offsets as currently estimated taken out
@@ -69,7 +84,7 @@
 // understated 100×: 0.325 / 0.159 / 0.117 / 0.112 m; 2 % outliers: 0.356 / 0.100 / 0.099 / 0.098 m;
 // with the 3× and 5× calibration proxies unchanged (NEES 2.76 and 3.14).
 //
-// Assumptions: every view's offset is drawn from the same prior (the same κ's for all; a single view far off
+// Assumptions: every view's offset is drawn from the same prior (the same three κ's for all; a single view far off
 // is the gate's business, view_noise_scales.hpp); the offsets are constant (a jump is a release); the
 // offset common to all views, which the differences do not show, is as large as the relative offsets
 // say, so it enters every position's covariance scaled by the same κ. Views on their own clocks,
@@ -91,6 +106,7 @@ namespace stgf {
 struct RegistrationPriorScales {
   double translation = 1.0;
   double noise_ratio = 1.0;
+  double vertical = 1.0;  // κ_v, on the vertical offsets (t_z and δ's vertical component)
 };
 
 // The scales a run's scenes learned (of one kind of sensor: filter_runner.hpp).
@@ -114,10 +130,13 @@ class RegistrationPriorScale {
   static constexpr double kRatioStep = 4.0;
   static constexpr int kEqualRatio = 2;  // ρ = 1
   static constexpr int kPooledRatios = 17;  // log_likelihood_grid's rows: log₂ ρ = −8, −7, …, 8
+  // log_likelihood_grid's size: those rows of κ_t, then one row of κ_v on the same grid.
+  static constexpr int kPooledGridSize = (kPooledRatios + 1) * kGridPoints;
 
   // What a coordinate of β is part of: a view's translation offset (its prior information is Λ₀'s,
   // scaled by 1/κ_t), its offset in units of its noise (by 1/κ_n), or neither (a released jump's, fixed).
-  enum class Group { kFixed, kTranslation, kNoiseRatio };
+  // The vertical coordinates (t_z, and δ's vertical component) have a scale of their own, κ_v.
+  enum class Group { kFixed, kTranslation, kNoiseRatio, kVertical };
   // Appends a coordinate of β with its prior information (> 0).
   void add_coordinate(double prior_information, Group group);
   std::size_t coordinates() const { return prior_information_.size(); }
@@ -135,23 +154,24 @@ class RegistrationPriorScale {
   bool has_enough_evidence() const { return dimensions_ >= kEnoughEvidenceDimensions; }
 
   // Starts from what other scenes' disagreements said (registration_scale_pool.hpp): their summed log
-  // likelihoods on log_likelihood_grid's grid (17 × 81, relative to this scene's prior), added to the
-  // posterior of this estimate and every later one. The scales are that posterior's mean at once.
+  // likelihoods on log_likelihood_grid's grid (17 × 81 and 81, relative to this scene's prior), added to
+  // the posterior of this estimate and every later one. The scales are that posterior's mean at once.
   void start_from(std::shared_ptr<const std::vector<double>> pooled);
 
   // Re-estimates κ̂_t and κ̂_n if the evidence has doubled since the last estimate. Returns whether
   // either changed.
   bool update();
   double scale(Group group) const;  // its κ̂ (1 before any estimate, and for kFixed)
-  RegistrationPriorScales scales() const { return {translation_scale_, noise_ratio_scale_}; }
+  RegistrationPriorScales scales() const { return {translation_scale_, noise_ratio_scale_, vertical_scale_}; }
   bool estimated() const { return estimated_at_ > 0.0 || pooled_ != nullptr; }
   double evidence_dimensions() const { return dimensions_; }
 
   // The log marginal likelihood (up to a constant) of κ_t = 2^(grid index / 4 − 10) and κ_n = ρ κ_t
   // for the evidence so far.
   std::vector<double> log_likelihood(double log2_ratio = 0.0) const;
-  // log_likelihood for log2 ρ = −8, −7, …, 8 in turn (17 × 81, ratio-major): the scene's part of the
-  // scales learned across scenes (registration_scale_pool.hpp).
+  // log_likelihood for log2 ρ = −8, −7, …, 8 in turn (17 × 81, ratio-major), then that of κ_v (81, with
+  // κ_t and κ_n at their estimates; zeros without vertical coordinates): the scene's part of the scales
+  // learned across scenes (registration_scale_pool.hpp).
   std::vector<double> log_likelihood_grid() const;
 
  private:
@@ -162,10 +182,14 @@ class RegistrationPriorScale {
     Eigen::VectorXd vector, prior_information;
     std::vector<bool> translation;
   };
-  ScaledEvidence scaled_evidence() const;
+  // The evidence on the horizontal scales' coordinates (translations and δ's, but for their vertical
+  // components), or with `vertical` on the vertical ones; the rest integrated out under their priors as
+  // scaled now.
+  ScaledEvidence scaled_evidence(bool vertical = false) const;
   // The posterior mean of the scales over both hypotheses, from the prior, this scene's evidence and
   // the pooled one.
-  RegistrationPriorScales posterior_mean() const;
+  RegistrationPriorScales posterior_mean() const;  // κ̂_t and κ̂_n (κ_v as it stands)
+  double vertical_posterior_mean() const;          // κ̂_v, with κ_t and κ_n as they stand
   static std::array<double, kGridPoints> log_likelihood(const ScaledEvidence& evidence, double log2_ratio);
 
   std::vector<double> prior_information_;
@@ -175,7 +199,7 @@ class RegistrationPriorScale {
   Eigen::VectorXd vector_;
   double dimensions_ = 0.0;
   double estimated_at_ = 0.0;  // evidence dimensions of the last estimate
-  double translation_scale_ = 1.0, noise_ratio_scale_ = 1.0;
+  double translation_scale_ = 1.0, noise_ratio_scale_ = 1.0, vertical_scale_ = 1.0;
   std::shared_ptr<const std::vector<double>> pooled_;  // other scenes' log likelihoods (start_from)
 };
 

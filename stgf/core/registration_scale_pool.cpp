@@ -25,10 +25,14 @@ RegistrationScalePool::Point RegistrationScalePool::Point::lowered_to_unit() con
 }
 
 void RegistrationScalePool::add(std::size_t scene_index, std::span<const double> grid, Point applied) {
-  if (grid.size() != static_cast<std::size_t>(kRatioIndices * kScaleIndices)) {
-    throw std::invalid_argument("RegistrationScalePool::add: a grid of 17 × 81 log likelihoods");
+  if (grid.size() != static_cast<std::size_t>(kGridSize)) {
+    throw std::invalid_argument("RegistrationScalePool::add: a grid of 17 × 81 and 81 log likelihoods");
   }
   Evidence& pending = sums_.add_scene(scene_index);
+  // κ_v's row: every scene runs with the vertical prior as calibrated (filter_runner.cpp).
+  for (int k = 0; k < kScaleIndices; ++k) {
+    pending.vertical[static_cast<std::size_t>(k)] += grid[static_cast<std::size_t>(kRatioIndices * kScaleIndices + k)];
+  }
   // Shifted to the calibration's scales: k + k* − 40, r + r* − 8, each offset by its span's margin.
   for (int r = 0; r < kRatioIndices; ++r) {
     for (int k = 0; k < kScaleIndices; ++k) {
@@ -46,6 +50,7 @@ void RegistrationScalePool::Evidence::add(const Evidence& other) {
     log_likelihood[j] += other.log_likelihood[j];
     covered[j] += other.covered[j];
   }
+  for (std::size_t k = 0; k < vertical.size(); ++k) vertical[k] += other.vertical[k];
 }
 
 std::optional<RegistrationScalePool::Point> RegistrationScalePool::estimate_for(std::size_t scene_index) const {
@@ -73,7 +78,7 @@ std::optional<std::vector<double>> RegistrationScalePool::evidence_for(std::size
   const auto before = sums_.before(scene_index);
   if (before.scenes == 0) return std::nullopt;
   std::vector<double> grid;
-  grid.reserve(static_cast<std::size_t>(kRatioIndices * kScaleIndices));
+  grid.reserve(static_cast<std::size_t>(kGridSize));
   for (int r = 0; r < kRatioIndices; ++r) {
     for (int k = 0; k < kScaleIndices; ++k) {
       const auto j = static_cast<std::size_t>((r + kUnitRatio) * kScaleSpan + k + kUnitScale);
@@ -83,6 +88,7 @@ std::optional<std::vector<double>> RegistrationScalePool::evidence_for(std::size
       grid.push_back(before.evidence.log_likelihood[j]);
     }
   }
+  grid.insert(grid.end(), before.evidence.vertical.begin(), before.evidence.vertical.end());
   return grid;
 }
 

@@ -14,6 +14,8 @@
 // ρ = κ_n / κ_t = 2^(r − 8) (r = 0 … 16), relative to the prior it ran with. A scene that ran with
 // the prior scaled by grid scales (k*, r*) is shifted to the calibration's: k + k* − 40, r + r* − 8.
 // The estimate is the argmax over the points every summed scene covers (within the grid's range).
+// The vertical offsets' scale κ_v has a row of its own (on κ_t's grid), summed as it is: the pool's
+// estimate leaves it alone, its evidence carries it.
 // Assumption: every scene's views share the two sizes of offset (as registration_prior_scale.hpp);
 // with the model fitting the sensors (a moving platform's rigid pose error: sensor_motion.hpp) the
 // summed likelihood peaks at their true size. A run keeps one pool for scenes of fixed sensors and one
@@ -66,6 +68,8 @@ class RegistrationScalePool {
   static constexpr int kScaleIndices = RegistrationPriorScale::kGridPoints;
   static constexpr int kUnitScale = 40;     // k of κ_t = 1
   static constexpr int kUnitRatio = 8;      // r of ρ = 1
+  // A scene's grid: 17 × 81 of (ρ, κ_t), then 81 of κ_v (RegistrationPriorScale::log_likelihood_grid).
+  static constexpr int kGridSize = RegistrationPriorScale::kPooledGridSize;
 
   // A grid point of the scales: κ_t = 2^(scale / 4 − 10), κ_n = κ_t 2^(ratio − 8).
   struct Point {
@@ -77,15 +81,16 @@ class RegistrationScalePool {
     Point lowered_to_unit() const;
   };
 
-  // Adds the grid (kRatioIndices × kScaleIndices, ratio-major) of the scene at `scene_index` in the
-  // list, which ran with the prior scaled by `applied` (as calibrated: Point{}). Scenes must come in list order of epochs.
+  // Adds the grid (kRatioIndices × kScaleIndices, ratio-major, then kScaleIndices of κ_v) of the scene
+  // at `scene_index` in the list, which ran with the prior scaled by `applied` (as calibrated: Point{};
+  // the vertical prior is never scaled by the pool). Scenes must come in list order of epochs.
   void add(std::size_t scene_index, std::span<const double> grid, Point applied);
   // The scales for the scene at `scene_index`: the argmax over the scenes of the epochs before its
   // own (Use::kLowerOnly: lowered_to_unit of it); none while they are fewer than kFewestScenes
   // (counting those with disagreements only).
   std::optional<Point> estimate_for(std::size_t scene_index) const;
   // Use::kEvidence: the summed log likelihoods of the scenes of the epochs before its own, on a scene's
-  // grid (17 × 81, ratio-major), for it to start from (RegistrationPriorScale::start_from); none before
+  // grid (17 × 81, ratio-major, and 81 of κ_v), for it to start from (RegistrationPriorScale::start_from); none before
   // any scene. Every scene must have run with the calibration's prior (added with Point{}).
   std::optional<std::vector<double>> evidence_for(std::size_t scene_index) const;
 
@@ -96,6 +101,7 @@ class RegistrationScalePool {
   struct Evidence {
     std::vector<double> log_likelihood = std::vector<double>(kScaleSpan * kRatioSpan, 0.0);
     std::vector<std::size_t> covered = std::vector<std::size_t>(kScaleSpan * kRatioSpan, 0);
+    std::vector<double> vertical = std::vector<double>(kScaleIndices, 0.0);  // κ_v's, never shifted
     void add(const Evidence& other);
   };
   Use use_;

@@ -155,7 +155,8 @@ void run_block(const MotionPredictor& predictor, const FilterOptions& options, s
         record.scales.push_back(applied);
       } else if (learned) {
         const RegistrationPriorScales own = scene.filter->registration_prior_scales();
-        record.scales.push_back({applied.translation * own.translation, applied.noise_ratio * own.noise_ratio});
+        record.scales.push_back(
+            {applied.translation * own.translation, applied.noise_ratio * own.noise_ratio, applied.vertical * own.vertical});
       } else {
         ++record.scenes_without;
       }
@@ -229,8 +230,9 @@ FilterRun run_spatiotemporal_graph_filter(const MotionPredictor& predictor, cons
       if (pooled.applied) {
         const RegistrationPriorScales scales = pooled.applied->scales();
         RegistrationPrior& prior = block_options.registration;
-        prior.translation_sigma *= std::sqrt(scales.translation);
-        prior.noise_ratio *= std::sqrt(scales.noise_ratio);
+        // The pool sizes the horizontal offsets; the vertical ones (σ_z, α's vertical) each scene alone.
+        prior.translation_sigma.head<2>() *= std::sqrt(scales.translation);
+        prior.noise_ratio.head<2>() *= std::sqrt(scales.noise_ratio);
         prior.range_scale_sigma *= std::sqrt(scales.noise_ratio);
       }
     }

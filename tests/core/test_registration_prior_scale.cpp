@@ -111,29 +111,38 @@ TEST(RegistrationPriorScale, RejectsABadCoordinateAndMismatchedSizes) {
 const RegistrationPrior kPrior{Vector3d(0.05, 0.05, 0.0), Vector3d::Constant(0.3)};
 
 // One scene: `views` views, each with an offset drawn from kPrior's Σ₀ with its translation scaled by
-// κ_t and its offset in units of the noise by κ_n (both `true_scale` unless given), measure `objects`
-// static objects at every one of `steps` times, with anisotropic R that differs by view.
+// κ_t and its offset in units of the noise by κ_n (both `true_scale` unless given; the vertical component
+// of the latter by `vertical_scale`, κ_n unless given), measure `objects` static objects at every one of
+// `steps` times, with anisotropic R that differs by view and grows with the object's distance (object i's
+// R is (1 + i/2)² times its view's), as a camera's does: so within a view a translation, the same on
+// every object, and an offset in units of the noise, larger on the farther ones, can be told apart.
 struct Scene {
   std::vector<std::vector<Measurement>> steps;  // step → rows, (object, view) order
   std::vector<Vector3d> truth;
 };
 
-Scene make_scene(int views, int objects, int steps, double true_scale, std::uint64_t seed, double noise_ratio_scale = 0.0) {
+Scene make_scene(int views, int objects, int steps, double true_scale, std::uint64_t seed, double noise_ratio_scale = 0.0,
+                 double vertical_scale = -1.0) {
   if (noise_ratio_scale == 0.0) noise_ratio_scale = true_scale;
+  if (vertical_scale < 0.0) vertical_scale = noise_ratio_scale;
   std::mt19937_64 random(seed);
   std::normal_distribution<double> normal;
   std::vector<Matrix3d> noise(static_cast<std::size_t>(views));
-  std::vector<Vector3d> offset(static_cast<std::size_t>(views));
+  std::vector<OffsetVector> beta(static_cast<std::size_t>(views), OffsetVector::Zero());
+  const auto noise_of = [&noise](int view, int object) {
+    const double distance = 1.0 + 0.5 * object;
+    return Matrix3d(distance * distance * noise[static_cast<std::size_t>(view)]);
+  };
   OffsetMatrix prior = kPrior.covariance();
   prior.topRows<3>() *= true_scale;
   prior.bottomRows<kOffsetSize - 3>() *= noise_ratio_scale;
+  prior(5, 5) = kPrior.covariance()(5, 5) * vertical_scale;  // δ's vertical component
   for (int v = 0; v < views; ++v) {
     const double angle = 0.4 * v;
     const Eigen::Matrix3d rotation = Eigen::AngleAxisd(angle, Vector3d::UnitZ()).toRotationMatrix();
     noise[v] = rotation * Vector3d(0.02 * (1 + v % 3), 0.005, 0.001).asDiagonal() * rotation.transpose();
-    OffsetVector beta = OffsetVector::Zero();  // (t, δ); kPrior has no range scale
-    for (int j = 0; j < 6; ++j) beta(j) = std::sqrt(prior(j, j)) * normal(random);
-    offset[v] = offset_jacobian(noise[v]) * beta;  // H_u β_u
+    // (t, δ); kPrior has no range scale
+    for (int j = 0; j < 6; ++j) beta[static_cast<std::size_t>(v)](j) = std::sqrt(prior(j, j)) * normal(random);
   }
   Scene scene;
   for (int i = 0; i < objects; ++i) scene.truth.emplace_back(10.0 * normal(random), 10.0 * normal(random), 0.0);
@@ -141,10 +150,12 @@ Scene make_scene(int views, int objects, int steps, double true_scale, std::uint
     std::vector<Measurement>& rows = scene.steps.emplace_back();
     for (int i = 0; i < objects; ++i) {
       for (int v = 0; v < views; ++v) {
-        const Eigen::LLT<Matrix3d> root(noise[v]);
+        const Matrix3d r = noise_of(v, i);
+        const Eigen::LLT<Matrix3d> root(r);
         const Vector3d e = root.matrixL() * Vector3d(normal(random), normal(random), normal(random));
+        const Vector3d offset = offset_jacobian(r) * beta[static_cast<std::size_t>(v)];  // H_u β_u
         rows.push_back(Measurement{"s", 0.1 * k, "v" + std::to_string(v), "o" + std::to_string(i),
-                                   Gaussian3::from_covariance(scene.truth[i] + offset[v] + e, noise[v]), std::nullopt, std::nullopt});
+                                   Gaussian3::from_covariance(scene.truth[i] + offset + e, r), std::nullopt, std::nullopt});
       }
     }
   }
@@ -253,6 +264,39 @@ TEST(RegistrationPriorScale, FindsEachScaleWhenTheyDiffer) {
   }
 }
 
+// A ground-plane camera's calibration error moves its points across the ground, not up: offsets 9 times
+// the prior's in variance horizontally and none vertically. The vertical ones take their own scale from
+// the z disagreements (κ_v near 0), so the offset common to all views, which no disagreement shows,
+// does not widen the height by the ground's κ_n; and the other way round, vertical offsets 9 times the
+// prior's under horizontal ones as calibrated.
+TEST(RegistrationPriorScale, LearnsTheVerticalOffsetsScaleApart) {
+  struct Case {
+    double horizontal, vertical;
+  };
+  for (const Case truth : {Case{9.0, 0.0}, Case{1.0, 9.0}}) {
+    double log_sum = 0.0;
+    const int seeds = 6;
+    for (int seed = 0; seed < seeds; ++seed) {
+      JointRegistration registration(kPrior);
+      run(registration, make_scene(24, 5, 40, truth.horizontal, 800 + static_cast<std::uint64_t>(seed), truth.horizontal, truth.vertical),
+          /*adapt=*/true);
+      const RegistrationPriorScales scales = registration.prior_scales();
+      EXPECT_GT(scales.noise_ratio, truth.horizontal / 2.0) << "seed " << seed;
+      EXPECT_LT(scales.noise_ratio, truth.horizontal * 2.0) << "seed " << seed;
+      if (truth.vertical == 0.0) {
+        EXPECT_LT(scales.vertical, 0.25) << "seed " << seed;
+      } else {
+        // 24 vertical coordinates, one per view: the scene's own vertical offsets' size varies by about
+        // ±30 % (against ±20 % for the 48 horizontal ones above).
+        EXPECT_GT(scales.vertical, truth.vertical / 3.0) << "seed " << seed;
+        EXPECT_LT(scales.vertical, truth.vertical * 3.0) << "seed " << seed;
+        log_sum += std::log(scales.vertical / truth.vertical);
+      }
+    }
+    if (truth.vertical > 0.0) EXPECT_LT(std::abs(log_sum / seeds), std::log(1.3));
+  }
+}
+
 TEST(RegistrationPriorScale, AViewWithGrossOutliersDoesNotInflateIt) {
   // One view of eight has 5 % of its measurements 5–20 m off: the times they are in count little.
   for (std::uint64_t seed = 0; seed < 4; ++seed) {
@@ -276,7 +320,7 @@ TEST(RegistrationPriorScale, AViewWithGrossOutliersDoesNotInflateIt) {
 }
 
 TEST(RegistrationPriorScale, ChangingTheScaleMidSceneIsExact) {
-  // M = Λ(κ) + the data's information: whatever κ_t, κ_n were along the way, the end state is that of
+  // M = Λ(κ) + the data's information: whatever κ_t, κ_n, κ_v were along the way, the end state is that of
   // a filter whose prior had the final ones from the start.
   const Scene scene = make_scene(5, 4, 30, 9.0, 7);
   JointRegistration adapted(kPrior);
@@ -285,8 +329,9 @@ TEST(RegistrationPriorScale, ChangingTheScaleMidSceneIsExact) {
   ASSERT_GT(kappa.translation, 2.0);  // they did move
   ASSERT_GT(kappa.noise_ratio, 2.0);
   ASSERT_NE(kappa.translation, kappa.noise_ratio);
-  const RegistrationPrior scaled_prior{std::sqrt(kappa.translation) * kPrior.translation_sigma,
-                                       std::sqrt(kappa.noise_ratio) * kPrior.noise_ratio};
+  const RegistrationPrior scaled_prior{
+      std::sqrt(kappa.translation) * kPrior.translation_sigma,
+      kPrior.noise_ratio.cwiseProduct(Vector3d(std::sqrt(kappa.noise_ratio), std::sqrt(kappa.noise_ratio), std::sqrt(kappa.vertical)))};
   JointRegistration fixed(scaled_prior);
   run(fixed, scene, /*adapt=*/false);
   for (int i = 0; i < 4; ++i) {

@@ -17,14 +17,16 @@ namespace {
 
 using Point = RegistrationScalePool::Point;
 
-// A concave grid peaked at (scale, ratio), relative to the prior a scene ran with.
-std::vector<double> peaked_at(int scale, int ratio) {
+// A concave grid peaked at (scale, ratio), relative to the prior a scene ran with, and κ_v's row at
+// `vertical`.
+std::vector<double> peaked_at(int scale, int ratio, int vertical = 30) {
   std::vector<double> grid;
   for (int r = 0; r < RegistrationScalePool::kRatioIndices; ++r) {
     for (int k = 0; k < RegistrationScalePool::kScaleIndices; ++k) {
       grid.push_back(-0.01 * (k - scale) * (k - scale) - 0.1 * (r - ratio) * (r - ratio));
     }
   }
+  for (int k = 0; k < RegistrationScalePool::kScaleIndices; ++k) grid.push_back(-0.01 * (k - vertical) * (k - vertical));
   return grid;
 }
 
@@ -83,10 +85,10 @@ TEST(RegistrationScalePool, GivesTheEpochsBeforeAScenesOwnAsItsStart) {
   EXPECT_FALSE(pool.evidence_for(0).has_value());
   pool.add(0, peaked_at(40, 8), Point{});
   const std::vector<double> first = *pool.evidence_for(1);  // scene 0's
-  pool.add(1, peaked_at(41, 8), Point{});
+  pool.add(1, peaked_at(41, 8, 20), Point{});
   pool.add(2, peaked_at(42, 8), Point{});
   const std::vector<double> both = *pool.evidence_for(3);  // scenes 0 and 1 ([2, 4) is one epoch)
-  const std::vector<double> zero = peaked_at(40, 8), one = peaked_at(41, 8);
+  const std::vector<double> zero = peaked_at(40, 8), one = peaked_at(41, 8, 20);  // κ_v's rows too
   ASSERT_EQ(both.size(), zero.size());
   for (std::size_t j = 0; j < zero.size(); ++j) {
     EXPECT_EQ(first[j], zero[j]);
@@ -103,6 +105,7 @@ TEST(RegistrationScalePool, RefusesScenesOutOfOrderAndMalformedGrids) {
   pool.add(20, peaked_at(40, 8), Point{});
   EXPECT_THROW(pool.add(3, peaked_at(40, 8), Point{}), std::logic_error);
   EXPECT_THROW(pool.add(21, std::vector<double>(10, 0.0), Point{}), std::invalid_argument);
+  EXPECT_THROW(pool.add(21, std::vector<double>(17 * 81, 0.0), Point{}), std::invalid_argument);  // no κ_v row
 }
 
 }  // namespace
