@@ -10,7 +10,7 @@ namespace stgf {
 
 RegistrationPriorScales RegistrationScalePool::Point::scales() const {
   const double translation = std::exp2(0.25 * scale - 10.0);
-  return {translation, translation * std::exp2(ratio - kUnitRatio)};
+  return {translation, translation * std::exp2(ratio - kUnitRatio), std::exp2(0.25 * vertical - 10.0)};
 }
 
 RegistrationScalePool::Point RegistrationScalePool::Point::lowered_to_unit() const {
@@ -21,7 +21,7 @@ RegistrationScalePool::Point RegistrationScalePool::Point::lowered_to_unit() con
   // Rounded down: at most 1 (κ_t' = 1 at a scale not a multiple of 4 leaves a fraction).
   const int lowered_ratio =
       std::clamp(static_cast<int>(std::floor(log2_ratio + 1e-9)) + kUnitRatio, 0, kRatioIndices - 1);
-  return {lowered_scale, lowered_ratio};
+  return {lowered_scale, lowered_ratio, std::min(vertical, kUnitScale)};
 }
 
 void RegistrationScalePool::add(std::size_t scene_index, std::span<const double> grid, Point applied) {
@@ -29,9 +29,11 @@ void RegistrationScalePool::add(std::size_t scene_index, std::span<const double>
     throw std::invalid_argument("RegistrationScalePool::add: a grid of 17 × 81 and 81 log likelihoods");
   }
   Evidence& pending = sums_.add_scene(scene_index);
-  // κ_v's row: every scene runs with the vertical prior as calibrated (filter_runner.cpp).
+  // κ_v's row, shifted as κ_t's: k + k_v* − 40.
   for (int k = 0; k < kScaleIndices; ++k) {
-    pending.vertical[static_cast<std::size_t>(k)] += grid[static_cast<std::size_t>(kRatioIndices * kScaleIndices + k)];
+    const auto j = static_cast<std::size_t>(k + applied.vertical);
+    pending.vertical[j] += grid[static_cast<std::size_t>(kRatioIndices * kScaleIndices + k)];
+    ++pending.vertical_covered[j];
   }
   // Shifted to the calibration's scales: k + k* − 40, r + r* − 8, each offset by its span's margin.
   for (int r = 0; r < kRatioIndices; ++r) {
@@ -50,7 +52,10 @@ void RegistrationScalePool::Evidence::add(const Evidence& other) {
     log_likelihood[j] += other.log_likelihood[j];
     covered[j] += other.covered[j];
   }
-  for (std::size_t k = 0; k < vertical.size(); ++k) vertical[k] += other.vertical[k];
+  for (std::size_t k = 0; k < vertical.size(); ++k) {
+    vertical[k] += other.vertical[k];
+    vertical_covered[k] += other.vertical_covered[k];
+  }
 }
 
 std::optional<RegistrationScalePool::Point> RegistrationScalePool::estimate_for(std::size_t scene_index) const {
@@ -70,6 +75,22 @@ std::optional<RegistrationScalePool::Point> RegistrationScalePool::estimate_for(
       }
     }
   }
+  // κ_v: its row's argmax; a flat row (no scene had vertical offsets to compare) says nothing, and
+  // leaves it at the calibration's.
+  if (best) {
+    double highest = -std::numeric_limits<double>::infinity(), lowest = std::numeric_limits<double>::infinity();
+    for (int k = 0; k < kScaleIndices; ++k) {
+      const auto j = static_cast<std::size_t>(k + kUnitScale);
+      if (before.evidence.vertical_covered[j] != before.scenes) continue;
+      const double value = before.evidence.vertical[j];
+      lowest = std::min(lowest, value);
+      if (value > highest) {
+        highest = value;
+        best->vertical = k;
+      }
+    }
+    if (!(highest > lowest)) best->vertical = kUnitScale;
+  }
   if (best && use_ == Use::kLowerOnly) best = best->lowered_to_unit();
   return best;
 }
@@ -88,7 +109,13 @@ std::optional<std::vector<double>> RegistrationScalePool::evidence_for(std::size
       grid.push_back(before.evidence.log_likelihood[j]);
     }
   }
-  grid.insert(grid.end(), before.evidence.vertical.begin(), before.evidence.vertical.end());
+  for (int k = 0; k < kScaleIndices; ++k) {
+    const auto j = static_cast<std::size_t>(k + kUnitScale);
+    if (before.evidence.vertical_covered[j] != before.scenes) {
+      throw std::logic_error("RegistrationScalePool::evidence_for: a scene ran with the prior scaled");
+    }
+    grid.push_back(before.evidence.vertical[j]);
+  }
   return grid;
 }
 

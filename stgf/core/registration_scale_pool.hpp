@@ -14,8 +14,8 @@
 // ρ = κ_n / κ_t = 2^(r − 8) (r = 0 … 16), relative to the prior it ran with. A scene that ran with
 // the prior scaled by grid scales (k*, r*) is shifted to the calibration's: k + k* − 40, r + r* − 8.
 // The estimate is the argmax over the points every summed scene covers (within the grid's range).
-// The vertical offsets' scale κ_v has a row of its own (on κ_t's grid), summed as it is: the pool's
-// estimate leaves it alone, its evidence carries it.
+// The vertical offsets' scale κ_v has a row of its own (on κ_t's grid), shifted and summed as κ_t's,
+// with its own argmax (a flat row, from scenes without vertical offsets, leaves κ_v at 1).
 // Assumption: every scene's views share the two sizes of offset (as registration_prior_scale.hpp);
 // with the model fitting the sensors (a moving platform's rigid pose error: sensor_motion.hpp) the
 // summed likelihood peaks at their true size. A run keeps one pool for scenes of fixed sensors and one
@@ -71,19 +71,20 @@ class RegistrationScalePool {
   // A scene's grid: 17 × 81 of (ρ, κ_t), then 81 of κ_v (RegistrationPriorScale::log_likelihood_grid).
   static constexpr int kGridSize = RegistrationPriorScale::kPooledGridSize;
 
-  // A grid point of the scales: κ_t = 2^(scale / 4 − 10), κ_n = κ_t 2^(ratio − 8).
+  // A grid point of the scales: κ_t = 2^(scale / 4 − 10), κ_n = κ_t 2^(ratio − 8), κ_v = 2^(vertical / 4 − 10).
   struct Point {
     int scale = kUnitScale;
     int ratio = kUnitRatio;
+    int vertical = kUnitScale;
     RegistrationPriorScales scales() const;
-    // The point with each scale lowered to at most 1: κ_t' = min(κ_t, 1), and κ_n' = min(κ_n, 1)
-    // rounded down to the ratios' grid (exact where κ_t ≤ 1; else at most a factor 2^¾ below).
+    // The point with each scale lowered to at most 1: κ_t' = min(κ_t, 1), κ_n' = min(κ_n, 1)
+    // rounded down to the ratios' grid (exact where κ_t ≤ 1; else at most a factor 2^¾ below), κ_v' = min(κ_v, 1).
     Point lowered_to_unit() const;
   };
 
   // Adds the grid (kRatioIndices × kScaleIndices, ratio-major, then kScaleIndices of κ_v) of the scene
-  // at `scene_index` in the list, which ran with the prior scaled by `applied` (as calibrated: Point{};
-  // the vertical prior is never scaled by the pool). Scenes must come in list order of epochs.
+  // at `scene_index` in the list, which ran with the prior scaled by `applied` (as calibrated: Point{}).
+  // Scenes must come in list order of epochs.
   void add(std::size_t scene_index, std::span<const double> grid, Point applied);
   // The scales for the scene at `scene_index`: the argmax over the scenes of the epochs before its
   // own (Use::kLowerOnly: lowered_to_unit of it); none while they are fewer than kFewestScenes
@@ -101,7 +102,8 @@ class RegistrationScalePool {
   struct Evidence {
     std::vector<double> log_likelihood = std::vector<double>(kScaleSpan * kRatioSpan, 0.0);
     std::vector<std::size_t> covered = std::vector<std::size_t>(kScaleSpan * kRatioSpan, 0);
-    std::vector<double> vertical = std::vector<double>(kScaleIndices, 0.0);  // κ_v's, never shifted
+    std::vector<double> vertical = std::vector<double>(kScaleSpan, 0.0);  // κ_v's row, shifted as κ_t's
+    std::vector<std::size_t> vertical_covered = std::vector<std::size_t>(kScaleSpan, 0);
     void add(const Evidence& other);
   };
   Use use_;

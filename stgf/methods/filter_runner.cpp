@@ -230,9 +230,11 @@ FilterRun run_spatiotemporal_graph_filter(const MotionPredictor& predictor, cons
       if (pooled.applied) {
         const RegistrationPriorScales scales = pooled.applied->scales();
         RegistrationPrior& prior = block_options.registration;
-        // The pool sizes the horizontal offsets; the vertical ones (σ_z, α's vertical) each scene alone.
-        prior.translation_sigma.head<2>() *= std::sqrt(scales.translation);
-        prior.noise_ratio.head<2>() *= std::sqrt(scales.noise_ratio);
+        // The vertical offsets (σ_z, α's vertical component) by κ_v (registration_prior_scale.hpp).
+        prior.translation_sigma = prior.translation_sigma.cwiseProduct(
+            Vector3d(std::sqrt(scales.translation), std::sqrt(scales.translation), std::sqrt(scales.vertical)));
+        prior.noise_ratio = prior.noise_ratio.cwiseProduct(
+            Vector3d(std::sqrt(scales.noise_ratio), std::sqrt(scales.noise_ratio), std::sqrt(scales.vertical)));
         prior.range_scale_sigma *= std::sqrt(scales.noise_ratio);
       }
     }

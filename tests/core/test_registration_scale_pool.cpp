@@ -6,6 +6,7 @@
 
 #include "stgf/core/registration_scale_pool.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 #include <vector>
@@ -74,6 +75,26 @@ TEST(RegistrationScalePool, LowersOnlyWhenSoUsed) {
   expect_scales(pooled(60, 0), 1.0, 1.0 / 8.0);              // κ_t = 32 → 1, κ_n = 1/8 kept
   expect_scales(pooled(22, 16), std::exp2(-4.5), std::exp2(-0.5));  // κ_n = 2^3.5 → 1, rounded down to the grid
   expect_scales(pooled(62, 0), 1.0, std::exp2(-3.0));  // κ_t = 2^5.5 → 1, κ_n = 2^-2.5 rounded down to the grid
+  // κ_v, on its own row: lowered to its argmax where that is below 1; a flat row (no vertical offsets
+  // in any scene) leaves it at 1.
+  const auto vertical = [](int peak, bool flat = false) {
+    RegistrationScalePool pool(RegistrationScalePool::Use::kLowerOnly);
+    for (std::size_t scene = 0; scene < 16; ++scene) {
+      std::vector<double> grid = peaked_at(40, 8, peak);
+      if (flat) std::fill(grid.end() - RegistrationScalePool::kScaleIndices, grid.end(), 0.0);
+      pool.add(scene, grid, Point{});
+    }
+    return pool.estimate_for(16)->scales().vertical;
+  };
+  EXPECT_NEAR(vertical(20), 1.0 / 32.0, 1e-12);
+  EXPECT_NEAR(vertical(60), 1.0, 1e-12);
+  EXPECT_NEAR(vertical(20, /*flat=*/true), 1.0, 1e-12);
+  // Scenes that ran with κ_v lowered are shifted back: their row peaks at the calibration's 2^-5 too.
+  RegistrationScalePool shifted(RegistrationScalePool::Use::kLowerOnly);
+  for (std::size_t scene = 0; scene < 16; ++scene) shifted.add(scene, peaked_at(40, 8, 20), Point{});
+  const Point lowered = *shifted.estimate_for(16);
+  for (std::size_t scene = 16; scene < 40; ++scene) shifted.add(scene, peaked_at(40, 8, 40), lowered);
+  EXPECT_NEAR(shifted.estimate_for(40)->scales().vertical, 1.0 / 32.0, 1e-12);
   EXPECT_EQ(RegistrationScalePool(RegistrationScalePool::Use::kLowerOnly).use(), RegistrationScalePool::Use::kLowerOnly);
   EXPECT_EQ(RegistrationScalePool().use(), RegistrationScalePool::Use::kEvidence);
 }
