@@ -30,10 +30,12 @@ void log_registration_prior_scales(const std::string& method, const LearnedRegis
   const std::vector<RegistrationPriorScales>& learned = record.scales;
   const std::size_t without = record.scenes_without;
   if (!learned.empty()) {
-    std::vector<double> translation, noise_ratio, vertical;
+    std::vector<double> translation, noise_ratio, along, across, vertical;
     for (const RegistrationPriorScales& scales : learned) {
       translation.push_back(scales.translation);
       noise_ratio.push_back(scales.noise_ratio);
+      along.push_back(scales.along);
+      across.push_back(scales.across);
       vertical.push_back(scales.vertical);
     }
     const auto at = [](const std::vector<double>& sorted, double q) {
@@ -41,18 +43,21 @@ void log_registration_prior_scales(const std::string& method, const LearnedRegis
     };
     std::sort(translation.begin(), translation.end());
     std::sort(noise_ratio.begin(), noise_ratio.end());
+    std::sort(along.begin(), along.end());
+    std::sort(across.begin(), across.end());
     std::sort(vertical.begin(), vertical.end());
     const auto quantiles = [&at](const std::vector<double>& sorted) {
       return fmt::format("median {:.2f} (10-90 %: {:.2f}-{:.2f})", at(sorted, 0.5), at(sorted, 0.1), at(sorted, 0.9));
     };
     spdlog::info("{}: registration prior scaled {} from the views' disagreements over {} scene(s){}: translation "
-                 "κ_t {}, offset in units of the noise κ_n {}{}; the offsets' σ is √κ times the model's calibration",
+                 "κ_t {}, offset in units of the noise κ_n {} (along the rays κ_a {}, across them κ_c {}){}; the "
+                 "offsets' σ is √κ times the model's calibration",
                  method,
                  learning == RegistrationScaleLearning::kAcrossScenes ? "across scenes"
                  : learning == RegistrationScaleLearning::kPerScene
                      ? "per scene"
                      : "per scene (each from the run's scales where these are below the calibration's)",
-                 learned.size(), scenes, quantiles(translation), quantiles(noise_ratio),
+                 learned.size(), scenes, quantiles(translation), quantiles(noise_ratio), quantiles(along), quantiles(across),
                  prior.translation_sigma.z() == 0.0 && prior.noise_ratio.z() == 0.0
                      ? std::string()
                      : fmt::format(", vertical offsets κ_v {}", quantiles(vertical)));
@@ -67,7 +72,8 @@ void log_registration_prior_scales(const std::string& method, const LearnedRegis
     const int n = prior.noise_ratio.isZero() && prior.range_scale_sigma == 0.0 ? 0 : direction(noise_ratio);
     if (t != 0 || n != 0) {
       const double kt = std::sqrt(at(translation, 0.5)), kn = std::sqrt(at(noise_ratio, 0.5)),
-                   kv = std::sqrt(at(vertical, 0.5));  // the vertical offsets' own scale
+                   kv = std::sqrt(at(vertical, 0.5)), ka = std::sqrt(at(along, 0.5)),
+                   kc = std::sqrt(at(across, 0.5));  // each axis group's own scale
       const auto bound = [](int d) { return d > 0 ? "at least" : "at most"; };
       std::string suggestion;
       if (t != 0) {
@@ -76,7 +82,7 @@ void log_registration_prior_scales(const std::string& method, const LearnedRegis
                                   prior.translation_sigma.z() * kv);
       }
       if (n != 0 && !prior.noise_ratio.isZero()) {
-        const Vector3d ratio = prior.noise_ratio.cwiseProduct(Vector3d(kn, kn, kv));
+        const Vector3d ratio = prior.noise_ratio.cwiseProduct(Vector3d(ka, kc, kv));
         suggestion += fmt::format("{}registration_noise_ratio {} ", suggestion.empty() ? "" : ", ", bound(n));
         suggestion += ratio.isConstant(ratio.x()) ? fmt::format("{:.3g}", ratio.x())
                                                   : fmt::format("[{:.3g}, {:.3g}, {:.3g}]", ratio.x(), ratio.y(), ratio.z());

@@ -18,14 +18,22 @@ using Matrix3X = Eigen::Matrix<double, 3, Eigen::Dynamic>;
 namespace {
 
 // Which scale of the prior (registration_prior_scale.hpp) a coordinate of β_u = (t, δ, ε) takes: the
-// translations' κ_t, the offsets in noise units' κ_n (ε, a geometric error of the sensor in relative
-// terms, with them), and the vertical ones — t_z and δ's vertical component — κ_v of their own: a
-// ground-plane camera's calibration error moves its points across the ground, not up, and the z
-// disagreements, not the ground ones, say how large the vertical offsets are.
+// horizontal translations' κ_t; δ's components along and across the rays κ_a and κ_c (κ_n unless other
+// scenes' evidence sets them apart); ε, a geometric error of the sensor in relative terms, κ_n; and the
+// vertical ones — t_z and δ's vertical component — κ_v of their own: a ground-plane camera's
+// calibration error moves its points across the ground, not up, and the z disagreements, not the
+// ground ones, say how large the vertical offsets are.
 RegistrationPriorScale::Group offset_scale_group(int coordinate) {
   using Group = RegistrationPriorScale::Group;
-  if (coordinate == 2 || coordinate == 5) return Group::kVertical;
-  return coordinate < 3 ? Group::kTranslation : Group::kNoiseRatio;
+  switch (coordinate) {
+    case 0:
+    case 1: return Group::kTranslation;
+    case 2:
+    case 5: return Group::kVertical;
+    case 3: return Group::kAlong;
+    case 4: return Group::kAcross;
+    default: return Group::kNoiseRatio;  // ε
+  }
 }
 
 using MatrixX3 = Eigen::Matrix<double, Eigen::Dynamic, 3>;
@@ -554,9 +562,7 @@ bool JointRegistration::adapt_prior_scale() {
     const Group group = prior_scale_.group(j);
     if (group == Group::kFixed) continue;
     const auto index = static_cast<Eigen::Index>(j);
-    const double change = group == Group::kTranslation ? 1.0 / after.translation - 1.0 / before.translation
-                          : group == Group::kNoiseRatio ? 1.0 / after.noise_ratio - 1.0 / before.noise_ratio
-                                                        : 1.0 / after.vertical - 1.0 / before.vertical;
+    const double change = 1.0 / scale_of(after, group) - 1.0 / scale_of(before, group);
     offsets_information_(index, index) += change * prior_scale_.prior_information(j);
   }
   ++version_;

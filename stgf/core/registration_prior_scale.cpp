@@ -103,15 +103,14 @@ void RegistrationPriorScale::add_vector(Eigen::Index row, const Eigen::Ref<const
   vector_.segment(row, segment.size()) += segment;
 }
 
-RegistrationPriorScale::ScaledEvidence RegistrationPriorScale::scaled_evidence(bool vertical) const {
+RegistrationPriorScale::ScaledEvidence RegistrationPriorScale::scaled_evidence(std::optional<Group> axis) const {
   // Split β into the coordinates whose scale is estimated, s, and the rest, f (the fixed ones, and the
   // other scales' at their present estimates); integrate f out under its prior.
   const auto size = static_cast<Eigen::Index>(prior_information_.size());
   const Eigen::MatrixXd information = information_.topLeftCorner(size, size).selfadjointView<Eigen::Lower>();
   std::vector<Eigen::Index> scaled, fixed;
   for (std::size_t j = 0; j < groups_.size(); ++j) {
-    const bool estimated = vertical ? groups_[j] == Group::kVertical
-                                    : groups_[j] == Group::kTranslation || groups_[j] == Group::kNoiseRatio;
+    const bool estimated = axis ? groups_[j] == *axis : groups_[j] != Group::kFixed && groups_[j] != Group::kVertical;
     (estimated ? scaled : fixed).push_back(static_cast<Eigen::Index>(j));
   }
   ScaledEvidence evidence{information(scaled, scaled), vector_(scaled), Eigen::VectorXd(static_cast<Eigen::Index>(scaled.size())), {}};
@@ -129,7 +128,8 @@ RegistrationPriorScale::ScaledEvidence RegistrationPriorScale::scaled_evidence(b
   for (std::size_t k = 0; k < scaled.size(); ++k) {
     const auto j = static_cast<std::size_t>(scaled[k]);
     evidence.prior_information(static_cast<Eigen::Index>(k)) = prior_information_[j];
-    evidence.translation.push_back(groups_[j] != Group::kNoiseRatio);  // scaled by κ itself, not by ρ κ
+    // Scaled by κ itself, not by ρ κ: translations in the joint estimate, and a group on its own.
+    evidence.translation.push_back(axis.has_value() || groups_[j] == Group::kTranslation);
   }
   return evidence;
 }
@@ -164,20 +164,27 @@ std::vector<double> RegistrationPriorScale::log_likelihood_grid() const {
     const std::array<double, kGridPoints> values = log_likelihood(evidence, static_cast<double>(ratio));
     grid.insert(grid.end(), values.begin(), values.end());
   }
-  const std::array<double, kGridPoints> vertical = log_likelihood(scaled_evidence(/*vertical=*/true), 0.0);
-  grid.insert(grid.end(), vertical.begin(), vertical.end());
+  for (const Group axis : kAxisGroups) {
+    const std::array<double, kGridPoints> values = log_likelihood(scaled_evidence(axis), 0.0);
+    grid.insert(grid.end(), values.begin(), values.end());
+  }
   return grid;
 }
 
-double RegistrationPriorScale::scale(Group group) const {
+double scale_of(const RegistrationPriorScales& scales, RegistrationPriorScale::Group group) {
+  using Group = RegistrationPriorScale::Group;
   switch (group) {
-    case Group::kTranslation: return translation_scale_;
-    case Group::kNoiseRatio: return noise_ratio_scale_;
-    case Group::kVertical: return vertical_scale_;
+    case Group::kTranslation: return scales.translation;
+    case Group::kNoiseRatio: return scales.noise_ratio;
+    case Group::kAlong: return scales.along;
+    case Group::kAcross: return scales.across;
+    case Group::kVertical: return scales.vertical;
     case Group::kFixed: break;
   }
   return 1.0;
 }
+
+double RegistrationPriorScale::scale(Group group) const { return scale_of(scales_, group); }
 
 namespace {
 
@@ -216,25 +223,38 @@ struct GridPriors {
 
 void RegistrationPriorScale::start_from(std::shared_ptr<const std::vector<double>> pooled) {
   if (pooled == nullptr || pooled->size() != static_cast<std::size_t>(kPooledGridSize)) {
-    throw std::invalid_argument("RegistrationPriorScale::start_from: a grid of 17 × 81 and 81 log likelihoods");
+    throw std::invalid_argument("RegistrationPriorScale::start_from: a grid of 17 × 81 and 3 × 81 log likelihoods");
   }
   pooled_ = std::move(pooled);
-  const RegistrationPriorScales scales = posterior_mean();
-  translation_scale_ = scales.translation;
-  noise_ratio_scale_ = scales.noise_ratio;
-  vertical_scale_ = vertical_posterior_mean();
+  const RegistrationPriorScales joint = posterior_mean();
+  scales_.translation = joint.translation;
+  scales_.noise_ratio = joint.noise_ratio;
+  set_axis_scales(/*first=*/true);
 }
 
-double RegistrationPriorScale::vertical_posterior_mean() const {
-  // One scale on the vertical coordinates, the others at their estimates (integrated out under their
-  // scaled priors): ln κ_v ~ N(0, s²) on the grid of κ_t, other scenes' evidence (start_from) added, and
+void RegistrationPriorScale::set_axis_scales(bool first) {
+  // The first time, each axis group's partners start from the joint κ_n.
+  if (first) scales_.along = scales_.across = scales_.vertical = scales_.noise_ratio;
+  scales_.vertical = axis_posterior_mean(Group::kVertical);
+  if (pooled_ == nullptr) {
+    scales_.along = scales_.across = scales_.noise_ratio;
+    return;
+  }
+  scales_.along = axis_posterior_mean(Group::kAlong);
+  scales_.across = axis_posterior_mean(Group::kAcross);
+}
+
+double RegistrationPriorScale::axis_posterior_mean(Group axis) const {
+  // One scale on the axis group's coordinates, the others at their estimates (integrated out under their
+  // scaled priors): ln κ ~ N(0, s²) on the grid of κ_t, other scenes' evidence (start_from) added, and
   // the posterior mean.
   static const GridPriors priors;
-  const bool own = dimensions_ > 0.0 && std::count(groups_.begin(), groups_.end(), Group::kVertical) > 0;
+  const bool own = dimensions_ > 0.0 && std::count(groups_.begin(), groups_.end(), axis) > 0;
   if (!own && pooled_ == nullptr) return 1.0;
   const std::array<double, kGridPoints> likelihood =
-      own ? log_likelihood(scaled_evidence(/*vertical=*/true), 0.0) : std::array<double, kGridPoints>{};
-  const std::size_t pooled_row = static_cast<std::size_t>(kPooledRatios * kGridPoints);
+      own ? log_likelihood(scaled_evidence(axis), 0.0) : std::array<double, kGridPoints>{};
+  const auto row = static_cast<std::size_t>(std::find(kAxisGroups.begin(), kAxisGroups.end(), axis) - kAxisGroups.begin());
+  const std::size_t pooled_row = static_cast<std::size_t>(kPooledRatios * kGridPoints) + row * kGridPoints;
   std::array<double, kGridPoints> weights{};
   double peak = -std::numeric_limits<double>::infinity();
   for (std::size_t k = 0; k < kGridPoints; ++k) {
@@ -252,15 +272,16 @@ double RegistrationPriorScale::vertical_posterior_mean() const {
 
 bool RegistrationPriorScale::update() {
   if (dimensions_ < kFirstEstimateDimensions || dimensions_ < 2.0 * estimated_at_) return false;
+  const bool first = !estimated();
   estimated_at_ = dimensions_;
-  const RegistrationPriorScales before = scales();
-  // The horizontal scales with the vertical one as it stands, then the vertical one with them.
-  const RegistrationPriorScales horizontal = posterior_mean();
-  translation_scale_ = horizontal.translation;
-  noise_ratio_scale_ = horizontal.noise_ratio;
-  vertical_scale_ = vertical_posterior_mean();
-  return before.translation != translation_scale_ || before.noise_ratio != noise_ratio_scale_ ||
-         before.vertical != vertical_scale_;
+  const RegistrationPriorScales before = scales_;
+  // The joint scales with the vertical as it stands, then each axis group's with the others.
+  const RegistrationPriorScales joint = posterior_mean();
+  scales_.translation = joint.translation;
+  scales_.noise_ratio = joint.noise_ratio;
+  set_axis_scales(first);
+  return before.translation != scales_.translation || before.noise_ratio != scales_.noise_ratio ||
+         before.vertical != scales_.vertical || before.along != scales_.along || before.across != scales_.across;
 }
 
 RegistrationPriorScales RegistrationPriorScale::posterior_mean() const {

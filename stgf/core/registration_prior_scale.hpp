@@ -10,7 +10,8 @@
 // within each (σ_x : σ_y : σ_z, and α_along : α_across : α_vertical) stays as calibrated:
 //     t_u ~ N(0, κ_t Σ₀,t),  δ_u ~ N(0, κ_n Σ₀,δ) for every view u,   Λ₀ = Σ₀⁻¹,  Λ(κ) = Λ₀ / κ per coordinate
 // (Σ₀,δ = diag(α_along², α_across², α_vertical²)),
-// and a third, κ_v, on the vertical offsets (t_z and δ's vertical component; below).
+// a third, κ_v, on the vertical offsets (t_z and δ's vertical component), and with other scenes' evidence
+// one on each of δ's horizontal components, κ_a along the rays and κ_c across them (below).
 // Two, because sensors differ in both and not in proportion: a model calibrated on vehicles (GPS
 // offsets of decimetres, small α) meets cameras whose offsets are centimetres but grow with their
 // noise (large α). One scale on both could only take the compromise — on such cameras κ ≈ 0.9, so
@@ -72,6 +73,15 @@
 // given the other's estimate. Its cost: the z disagreements no longer help tell κ_t from κ_n, which on
 // views whose R is the same for every measurement (no range dependence) only the vertical did.
 //
+// δ along and across the rays, κ_a and κ_c, where other scenes' evidence is given (start_from; by
+// default where the sensors move). A vehicle's heading error moves its detections across their rays and
+// not along them; with one κ_n on both, the one α the model was calibrated with takes their compromise
+// (wider than the along-ray offsets, narrower than the across-ray ones: cad val with a camera-sized prior,
+// NEES 3.8–4.2). With the run's evidence each is learned as κ_v is, given the others; a scene alone
+// cannot tell them apart from its translations (a camera's pan error over its narrow field is nearly a
+// lateral shift: per scene, the mpl model on the 3× cameras took κ_c 3 where the truth is 9, DE +3 %),
+// so without it both are κ̂_n.
+//
 // Robustness: a faulty view (gross outliers, an R far too small, an offset that jumps) disagrees
 // with the others far more than any offset the prior allows, and would drive κ up for every view.
 // So each time's evidence is weighted: with the offsets as currently estimated taken out
@@ -94,6 +104,7 @@
 #include <array>
 #include <cstddef>
 #include <memory>
+#include <optional>
 #include <span>
 #include <vector>
 
@@ -105,8 +116,10 @@ namespace stgf {
 // offsets in units of their noise (1: as calibrated).
 struct RegistrationPriorScales {
   double translation = 1.0;
-  double noise_ratio = 1.0;
-  double vertical = 1.0;  // κ_v, on the vertical offsets (t_z and δ's vertical component)
+  double noise_ratio = 1.0;  // κ_n: δ's components together (and the range scale ε)
+  double vertical = 1.0;     // κ_v, on the vertical offsets (t_z and δ's vertical component)
+  double along = 1.0;        // κ_a, on δ's component along each measurement's ray
+  double across = 1.0;       // κ_c, on δ's component across it
 };
 
 // The scales a run's scenes learned (of one kind of sensor: filter_runner.hpp).
@@ -130,13 +143,16 @@ class RegistrationPriorScale {
   static constexpr double kRatioStep = 4.0;
   static constexpr int kEqualRatio = 2;  // ρ = 1
   static constexpr int kPooledRatios = 17;  // log_likelihood_grid's rows: log₂ ρ = −8, −7, …, 8
-  // log_likelihood_grid's size: those rows of κ_t, then one row of κ_v on the same grid.
-  static constexpr int kPooledGridSize = (kPooledRatios + 1) * kGridPoints;
+  // log_likelihood_grid's size: those rows of κ_t, then a row for each of kAxisGroups on the same grid.
+  static constexpr int kPooledGridSize = (kPooledRatios + 3) * kGridPoints;
 
   // What a coordinate of β is part of: a view's translation offset (its prior information is Λ₀'s,
   // scaled by 1/κ_t), its offset in units of its noise (by 1/κ_n), or neither (a released jump's, fixed).
-  // The vertical coordinates (t_z, and δ's vertical component) have a scale of their own, κ_v.
-  enum class Group { kFixed, kTranslation, kNoiseRatio, kVertical };
+  // The vertical coordinates (t_z, and δ's vertical component) have a scale of their own, κ_v, and δ's
+  // components along and across the rays theirs, κ_a and κ_c; the range scale ε is kNoiseRatio's.
+  enum class Group { kFixed, kTranslation, kNoiseRatio, kAlong, kAcross, kVertical };
+  // The groups whose scale is learned on its own, given the others (their rows of log_likelihood_grid).
+  static constexpr std::array<Group, 3> kAxisGroups{Group::kAlong, Group::kAcross, Group::kVertical};
   // Appends a coordinate of β with its prior information (> 0).
   void add_coordinate(double prior_information, Group group);
   std::size_t coordinates() const { return prior_information_.size(); }
@@ -162,7 +178,7 @@ class RegistrationPriorScale {
   // either changed.
   bool update();
   double scale(Group group) const;  // its κ̂ (1 before any estimate, and for kFixed)
-  RegistrationPriorScales scales() const { return {translation_scale_, noise_ratio_scale_, vertical_scale_}; }
+  RegistrationPriorScales scales() const { return scales_; }
   bool estimated() const { return estimated_at_ > 0.0 || pooled_ != nullptr; }
   double evidence_dimensions() const { return dimensions_; }
 
@@ -182,14 +198,15 @@ class RegistrationPriorScale {
     Eigen::VectorXd vector, prior_information;
     std::vector<bool> translation;
   };
-  // The evidence on the horizontal scales' coordinates (translations and δ's, but for their vertical
-  // components), or with `vertical` on the vertical ones; the rest integrated out under their priors as
-  // scaled now.
-  ScaledEvidence scaled_evidence(bool vertical = false) const;
+  // The evidence on the joint scales' coordinates (translations, and δ's along and across the rays with ε),
+  // or, given `axis`, on that group's; the rest integrated out under their priors as scaled now.
+  ScaledEvidence scaled_evidence(std::optional<Group> axis = std::nullopt) const;
   // The posterior mean of the scales over both hypotheses, from the prior, this scene's evidence and
   // the pooled one.
-  RegistrationPriorScales posterior_mean() const;  // κ̂_t and κ̂_n (κ_v as it stands)
-  double vertical_posterior_mean() const;          // κ̂_v, with κ_t and κ_n as they stand
+  RegistrationPriorScales posterior_mean() const;  // κ̂_t and κ̂_n (the others as they stand)
+  double axis_posterior_mean(Group axis) const;    // κ̂ of one of kAxisGroups, with the others as they stand
+  // κ̂_v, and κ̂_a, κ̂_c where other scenes' evidence is given (start_from), else κ̂_n for both.
+  void set_axis_scales(bool first);
   static std::array<double, kGridPoints> log_likelihood(const ScaledEvidence& evidence, double log2_ratio);
 
   std::vector<double> prior_information_;
@@ -199,8 +216,11 @@ class RegistrationPriorScale {
   Eigen::VectorXd vector_;
   double dimensions_ = 0.0;
   double estimated_at_ = 0.0;  // evidence dimensions of the last estimate
-  double translation_scale_ = 1.0, noise_ratio_scale_ = 1.0, vertical_scale_ = 1.0;
+  RegistrationPriorScales scales_;
   std::shared_ptr<const std::vector<double>> pooled_;  // other scenes' log likelihoods (start_from)
 };
+
+// A group's scale in `scales` (1 for kFixed).
+double scale_of(const RegistrationPriorScales& scales, RegistrationPriorScale::Group group);
 
 }  // namespace stgf

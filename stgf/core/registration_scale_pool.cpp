@@ -10,7 +10,13 @@ namespace stgf {
 
 RegistrationPriorScales RegistrationScalePool::Point::scales() const {
   const double translation = std::exp2(0.25 * scale - 10.0);
-  return {translation, translation * std::exp2(ratio - kUnitRatio), std::exp2(0.25 * vertical - 10.0)};
+  RegistrationPriorScales scales;
+  scales.translation = translation;
+  scales.noise_ratio = translation * std::exp2(ratio - kUnitRatio);
+  scales.along = std::exp2(0.25 * axes[0] - 10.0);
+  scales.across = std::exp2(0.25 * axes[1] - 10.0);
+  scales.vertical = std::exp2(0.25 * axes[2] - 10.0);
+  return scales;
 }
 
 RegistrationScalePool::Point RegistrationScalePool::Point::lowered_to_unit() const {
@@ -21,19 +27,23 @@ RegistrationScalePool::Point RegistrationScalePool::Point::lowered_to_unit() con
   // Rounded down: at most 1 (κ_t' = 1 at a scale not a multiple of 4 leaves a fraction).
   const int lowered_ratio =
       std::clamp(static_cast<int>(std::floor(log2_ratio + 1e-9)) + kUnitRatio, 0, kRatioIndices - 1);
-  return {lowered_scale, lowered_ratio, std::min(vertical, kUnitScale)};
+  Point lowered{lowered_scale, lowered_ratio, axes};
+  for (int& axis : lowered.axes) axis = std::min(axis, kUnitScale);
+  return lowered;
 }
 
 void RegistrationScalePool::add(std::size_t scene_index, std::span<const double> grid, Point applied) {
   if (grid.size() != static_cast<std::size_t>(kGridSize)) {
-    throw std::invalid_argument("RegistrationScalePool::add: a grid of 17 × 81 and 81 log likelihoods");
+    throw std::invalid_argument("RegistrationScalePool::add: a grid of 17 × 81 and 3 × 81 log likelihoods");
   }
   Evidence& pending = sums_.add_scene(scene_index);
-  // κ_v's row, shifted as κ_t's: k + k_v* − 40.
-  for (int k = 0; k < kScaleIndices; ++k) {
-    const auto j = static_cast<std::size_t>(k + applied.vertical);
-    pending.vertical[j] += grid[static_cast<std::size_t>(kRatioIndices * kScaleIndices + k)];
-    ++pending.vertical_covered[j];
+  // The axis groups' rows, each shifted as κ_t's: k + k_a* − 40.
+  for (std::size_t a = 0; a < kAxes; ++a) {
+    for (int k = 0; k < kScaleIndices; ++k) {
+      const auto j = static_cast<std::size_t>(k + applied.axes[a]);
+      pending.axes[a][j] += grid[static_cast<std::size_t>((kRatioIndices + static_cast<int>(a)) * kScaleIndices + k)];
+      ++pending.axes_covered[a][j];
+    }
   }
   // Shifted to the calibration's scales: k + k* − 40, r + r* − 8, each offset by its span's margin.
   for (int r = 0; r < kRatioIndices; ++r) {
@@ -52,9 +62,11 @@ void RegistrationScalePool::Evidence::add(const Evidence& other) {
     log_likelihood[j] += other.log_likelihood[j];
     covered[j] += other.covered[j];
   }
-  for (std::size_t k = 0; k < vertical.size(); ++k) {
-    vertical[k] += other.vertical[k];
-    vertical_covered[k] += other.vertical_covered[k];
+  for (std::size_t a = 0; a < kAxes; ++a) {
+    for (std::size_t k = 0; k < axes[a].size(); ++k) {
+      axes[a][k] += other.axes[a][k];
+      axes_covered[a][k] += other.axes_covered[a][k];
+    }
   }
 }
 
@@ -75,23 +87,26 @@ std::optional<RegistrationScalePool::Point> RegistrationScalePool::estimate_for(
       }
     }
   }
-  // κ_v: its row's argmax; a flat row (no scene had vertical offsets to compare) says nothing, and
-  // leaves it at the calibration's.
-  if (best) {
+  // Each axis group: its row's argmax; a flat row (no scene had such offsets to compare) says nothing,
+  // and leaves it at the calibration's.
+  for (std::size_t a = 0; best && a < kAxes; ++a) {
     double highest = -std::numeric_limits<double>::infinity(), lowest = std::numeric_limits<double>::infinity();
     for (int k = 0; k < kScaleIndices; ++k) {
       const auto j = static_cast<std::size_t>(k + kUnitScale);
-      if (before.evidence.vertical_covered[j] != before.scenes) continue;
-      const double value = before.evidence.vertical[j];
+      if (before.evidence.axes_covered[a][j] != before.scenes) continue;
+      const double value = before.evidence.axes[a][j];
       lowest = std::min(lowest, value);
       if (value > highest) {
         highest = value;
-        best->vertical = k;
+        best->axes[a] = k;
       }
     }
-    if (!(highest > lowest)) best->vertical = kUnitScale;
+    if (!(highest > lowest)) best->axes[a] = kUnitScale;
   }
   if (best && use_ == Use::kLowerOnly) best = best->lowered_to_unit();
+  // δ along and across the rays follow κ_n here (RegistrationPriorScale: they are learned apart only from
+  // other scenes' evidence, Use::kEvidence): κ_n's index on κ_t's grid, k + 4 (r − 8), at least 0.
+  if (best) best->axes[0] = best->axes[1] = std::clamp(best->scale + 4 * (best->ratio - kUnitRatio), 0, kScaleIndices - 1);
   return best;
 }
 
@@ -109,12 +124,14 @@ std::optional<std::vector<double>> RegistrationScalePool::evidence_for(std::size
       grid.push_back(before.evidence.log_likelihood[j]);
     }
   }
-  for (int k = 0; k < kScaleIndices; ++k) {
-    const auto j = static_cast<std::size_t>(k + kUnitScale);
-    if (before.evidence.vertical_covered[j] != before.scenes) {
-      throw std::logic_error("RegistrationScalePool::evidence_for: a scene ran with the prior scaled");
+  for (std::size_t a = 0; a < kAxes; ++a) {
+    for (int k = 0; k < kScaleIndices; ++k) {
+      const auto j = static_cast<std::size_t>(k + kUnitScale);
+      if (before.evidence.axes_covered[a][j] != before.scenes) {
+        throw std::logic_error("RegistrationScalePool::evidence_for: a scene ran with the prior scaled");
+      }
+      grid.push_back(before.evidence.axes[a][j]);
     }
-    grid.push_back(before.evidence.vertical[j]);
   }
   return grid;
 }

@@ -14,8 +14,10 @@
 // ρ = κ_n / κ_t = 2^(r − 8) (r = 0 … 16), relative to the prior it ran with. A scene that ran with
 // the prior scaled by grid scales (k*, r*) is shifted to the calibration's: k + k* − 40, r + r* − 8.
 // The estimate is the argmax over the points every summed scene covers (within the grid's range).
-// The vertical offsets' scale κ_v has a row of its own (on κ_t's grid), shifted and summed as κ_t's,
-// with its own argmax (a flat row, from scenes without vertical offsets, leaves κ_v at 1).
+// The axis groups' scales (κ_a, κ_c, κ_v: δ along and across the rays, the vertical offsets) have a row
+// each (on κ_t's grid), shifted and summed as κ_t's. As evidence all three are used; the estimate takes
+// κ_v's argmax (a flat row, from scenes without vertical offsets, leaves it at 1) and sets κ_a and κ_c
+// to κ_n, which a scene learns apart only from other scenes' evidence.
 // Assumption: every scene's views share the two sizes of offset (as registration_prior_scale.hpp);
 // with the model fitting the sensors (a moving platform's rigid pose error: sensor_motion.hpp) the
 // summed likelihood peaks at their true size. A run keeps one pool for scenes of fixed sensors and one
@@ -44,6 +46,7 @@
 // may be the rise's counterpart, and only the fall is taken (design §1.7: NEES, already far out on
 // cad, moves further).
 
+#include <array>
 #include <cstddef>
 #include <optional>
 #include <span>
@@ -68,17 +71,21 @@ class RegistrationScalePool {
   static constexpr int kScaleIndices = RegistrationPriorScale::kGridPoints;
   static constexpr int kUnitScale = 40;     // k of κ_t = 1
   static constexpr int kUnitRatio = 8;      // r of ρ = 1
-  // A scene's grid: 17 × 81 of (ρ, κ_t), then 81 of κ_v (RegistrationPriorScale::log_likelihood_grid).
+  // A scene's grid: 17 × 81 of (ρ, κ_t), then 81 for each axis group (κ_a, κ_c, κ_v;
+  // RegistrationPriorScale::log_likelihood_grid).
   static constexpr int kGridSize = RegistrationPriorScale::kPooledGridSize;
+  static constexpr std::size_t kAxes = RegistrationPriorScale::kAxisGroups.size();
 
-  // A grid point of the scales: κ_t = 2^(scale / 4 − 10), κ_n = κ_t 2^(ratio − 8), κ_v = 2^(vertical / 4 − 10).
+  // A grid point of the scales: κ_t = 2^(scale / 4 − 10), κ_n = κ_t 2^(ratio − 8), and the axis groups'
+  // (along, across, vertical: RegistrationPriorScale::kAxisGroups) 2^(axes[a] / 4 − 10).
   struct Point {
     int scale = kUnitScale;
     int ratio = kUnitRatio;
-    int vertical = kUnitScale;
+    std::array<int, 3> axes{kUnitScale, kUnitScale, kUnitScale};
     RegistrationPriorScales scales() const;
     // The point with each scale lowered to at most 1: κ_t' = min(κ_t, 1), κ_n' = min(κ_n, 1)
-    // rounded down to the ratios' grid (exact where κ_t ≤ 1; else at most a factor 2^¾ below), κ_v' = min(κ_v, 1).
+    // rounded down to the ratios' grid (exact where κ_t ≤ 1; else at most a factor 2^¾ below), and each
+    // axis group's at most 1.
     Point lowered_to_unit() const;
   };
 
@@ -102,8 +109,12 @@ class RegistrationScalePool {
   struct Evidence {
     std::vector<double> log_likelihood = std::vector<double>(kScaleSpan * kRatioSpan, 0.0);
     std::vector<std::size_t> covered = std::vector<std::size_t>(kScaleSpan * kRatioSpan, 0);
-    std::vector<double> vertical = std::vector<double>(kScaleSpan, 0.0);  // κ_v's row, shifted as κ_t's
-    std::vector<std::size_t> vertical_covered = std::vector<std::size_t>(kScaleSpan, 0);
+    // The axis groups' rows, shifted as κ_t's.
+    std::array<std::vector<double>, 3> axes{std::vector<double>(kScaleSpan, 0.0), std::vector<double>(kScaleSpan, 0.0),
+                                            std::vector<double>(kScaleSpan, 0.0)};
+    std::array<std::vector<std::size_t>, 3> axes_covered{std::vector<std::size_t>(kScaleSpan, 0),
+                                                         std::vector<std::size_t>(kScaleSpan, 0),
+                                                         std::vector<std::size_t>(kScaleSpan, 0)};
     void add(const Evidence& other);
   };
   Use use_;

@@ -155,8 +155,13 @@ void run_block(const MotionPredictor& predictor, const FilterOptions& options, s
         record.scales.push_back(applied);
       } else if (learned) {
         const RegistrationPriorScales own = scene.filter->registration_prior_scales();
-        record.scales.push_back(
-            {applied.translation * own.translation, applied.noise_ratio * own.noise_ratio, applied.vertical * own.vertical});
+        RegistrationPriorScales both = own;
+        both.translation *= applied.translation;
+        both.noise_ratio *= applied.noise_ratio;
+        both.along *= applied.along;
+        both.across *= applied.across;
+        both.vertical *= applied.vertical;
+        record.scales.push_back(both);
       } else {
         ++record.scenes_without;
       }
@@ -234,7 +239,7 @@ FilterRun run_spatiotemporal_graph_filter(const MotionPredictor& predictor, cons
         prior.translation_sigma = prior.translation_sigma.cwiseProduct(
             Vector3d(std::sqrt(scales.translation), std::sqrt(scales.translation), std::sqrt(scales.vertical)));
         prior.noise_ratio = prior.noise_ratio.cwiseProduct(
-            Vector3d(std::sqrt(scales.noise_ratio), std::sqrt(scales.noise_ratio), std::sqrt(scales.vertical)));
+            Vector3d(std::sqrt(scales.along), std::sqrt(scales.across), std::sqrt(scales.vertical)));
         prior.range_scale_sigma *= std::sqrt(scales.noise_ratio);
       }
     }

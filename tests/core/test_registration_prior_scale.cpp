@@ -122,9 +122,10 @@ struct Scene {
 };
 
 Scene make_scene(int views, int objects, int steps, double true_scale, std::uint64_t seed, double noise_ratio_scale = 0.0,
-                 double vertical_scale = -1.0) {
+                 double vertical_scale = -1.0, double along_scale = -1.0) {
   if (noise_ratio_scale == 0.0) noise_ratio_scale = true_scale;
   if (vertical_scale < 0.0) vertical_scale = noise_ratio_scale;
+  if (along_scale < 0.0) along_scale = noise_ratio_scale;
   std::mt19937_64 random(seed);
   std::normal_distribution<double> normal;
   std::vector<Matrix3d> noise(static_cast<std::size_t>(views));
@@ -137,6 +138,7 @@ Scene make_scene(int views, int objects, int steps, double true_scale, std::uint
   prior.topRows<3>() *= true_scale;
   prior.bottomRows<kOffsetSize - 3>() *= noise_ratio_scale;
   prior(5, 5) = kPrior.covariance()(5, 5) * vertical_scale;  // δ's vertical component
+  prior(3, 3) = kPrior.covariance()(3, 3) * along_scale;     // δ's first (here: world x) component
   for (int v = 0; v < views; ++v) {
     const double angle = 0.4 * v;
     const Eigen::Matrix3d rotation = Eigen::AngleAxisd(angle, Vector3d::UnitZ()).toRotationMatrix();
@@ -297,6 +299,32 @@ TEST(RegistrationPriorScale, LearnsTheVerticalOffsetsScaleApart) {
   }
 }
 
+// δ's horizontal components each take a scale of their own where other scenes' evidence is given (a
+// vehicle's heading error moves its detections across their rays, not along them): offsets 9 times the
+// prior's in variance on δ's second component and none on its first, 20 short scenes pooled. Alone, a
+// scene keeps one κ_n for both.
+TEST(RegistrationPriorScale, LearnsDeltasAxesApartFromOtherScenesEvidence) {
+  const auto scene_of = [](std::uint64_t seed) { return make_scene(6, 4, 10, 1.0, seed, 9.0, 1.0, 0.0); };
+  std::vector<double> pooled;
+  for (std::uint64_t seed = 0; seed < 20; ++seed) {
+    JointRegistration other(kPrior);
+    run(other, scene_of(900 + seed), /*adapt=*/true);
+    const std::vector<double> grid = other.prior_scale_log_likelihood_grid();
+    if (pooled.empty()) pooled.assign(grid.size(), 0.0);
+    for (std::size_t j = 0; j < grid.size(); ++j) pooled[j] += grid[j];
+  }
+  const Scene scene = scene_of(999);
+  JointRegistration alone(kPrior), started(kPrior);
+  started.start_prior_scale_from(std::make_shared<const std::vector<double>>(pooled));
+  run(alone, scene, /*adapt=*/true);
+  run(started, scene, /*adapt=*/true);
+  EXPECT_EQ(alone.prior_scales().along, alone.prior_scales().noise_ratio);
+  EXPECT_EQ(alone.prior_scales().across, alone.prior_scales().noise_ratio);
+  EXPECT_GT(started.prior_scales().across, 9.0 / 2.0);
+  EXPECT_LT(started.prior_scales().across, 9.0 * 2.0);
+  EXPECT_LT(started.prior_scales().along, 0.25);
+}
+
 TEST(RegistrationPriorScale, AViewWithGrossOutliersDoesNotInflateIt) {
   // One view of eight has 5 % of its measurements 5–20 m off: the times they are in count little.
   for (std::uint64_t seed = 0; seed < 4; ++seed) {
@@ -320,7 +348,7 @@ TEST(RegistrationPriorScale, AViewWithGrossOutliersDoesNotInflateIt) {
 }
 
 TEST(RegistrationPriorScale, ChangingTheScaleMidSceneIsExact) {
-  // M = Λ(κ) + the data's information: whatever κ_t, κ_n, κ_v were along the way, the end state is that of
+  // M = Λ(κ) + the data's information: whatever κ_t, κ_a, κ_c, κ_v were along the way, the end state is that of
   // a filter whose prior had the final ones from the start.
   const Scene scene = make_scene(5, 4, 30, 9.0, 7);
   JointRegistration adapted(kPrior);
@@ -331,7 +359,7 @@ TEST(RegistrationPriorScale, ChangingTheScaleMidSceneIsExact) {
   ASSERT_NE(kappa.translation, kappa.noise_ratio);
   const RegistrationPrior scaled_prior{
       std::sqrt(kappa.translation) * kPrior.translation_sigma,
-      kPrior.noise_ratio.cwiseProduct(Vector3d(std::sqrt(kappa.noise_ratio), std::sqrt(kappa.noise_ratio), std::sqrt(kappa.vertical)))};
+      kPrior.noise_ratio.cwiseProduct(Vector3d(std::sqrt(kappa.along), std::sqrt(kappa.across), std::sqrt(kappa.vertical)))};
   JointRegistration fixed(scaled_prior);
   run(fixed, scene, /*adapt=*/false);
   for (int i = 0; i < 4; ++i) {

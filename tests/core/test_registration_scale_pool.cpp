@@ -18,8 +18,8 @@ namespace {
 
 using Point = RegistrationScalePool::Point;
 
-// A concave grid peaked at (scale, ratio), relative to the prior a scene ran with, and κ_v's row at
-// `vertical`.
+// A concave grid peaked at (scale, ratio), relative to the prior a scene ran with, δ's along- and
+// across-ray rows at 36 and 44, and κ_v's row at `vertical`.
 std::vector<double> peaked_at(int scale, int ratio, int vertical = 30) {
   std::vector<double> grid;
   for (int r = 0; r < RegistrationScalePool::kRatioIndices; ++r) {
@@ -27,7 +27,9 @@ std::vector<double> peaked_at(int scale, int ratio, int vertical = 30) {
       grid.push_back(-0.01 * (k - scale) * (k - scale) - 0.1 * (r - ratio) * (r - ratio));
     }
   }
-  for (int k = 0; k < RegistrationScalePool::kScaleIndices; ++k) grid.push_back(-0.01 * (k - vertical) * (k - vertical));
+  for (const int peak : {36, 44, vertical}) {
+    for (int k = 0; k < RegistrationScalePool::kScaleIndices; ++k) grid.push_back(-0.01 * (k - peak) * (k - peak));
+  }
   return grid;
 }
 
@@ -86,6 +88,9 @@ TEST(RegistrationScalePool, LowersOnlyWhenSoUsed) {
     }
     return pool.estimate_for(16)->scales().vertical;
   };
+  // δ along and across the rays follow κ_n in the estimate (set apart only by evidence).
+  EXPECT_NEAR(pooled(20, 12).scales().along, 0.5, 1e-12);
+  EXPECT_NEAR(pooled(20, 12).scales().across, 0.5, 1e-12);
   EXPECT_NEAR(vertical(20), 1.0 / 32.0, 1e-12);
   EXPECT_NEAR(vertical(60), 1.0, 1e-12);
   EXPECT_NEAR(vertical(20, /*flat=*/true), 1.0, 1e-12);
@@ -126,7 +131,7 @@ TEST(RegistrationScalePool, RefusesScenesOutOfOrderAndMalformedGrids) {
   pool.add(20, peaked_at(40, 8), Point{});
   EXPECT_THROW(pool.add(3, peaked_at(40, 8), Point{}), std::logic_error);
   EXPECT_THROW(pool.add(21, std::vector<double>(10, 0.0), Point{}), std::invalid_argument);
-  EXPECT_THROW(pool.add(21, std::vector<double>(17 * 81, 0.0), Point{}), std::invalid_argument);  // no κ_v row
+  EXPECT_THROW(pool.add(21, std::vector<double>(18 * 81, 0.0), Point{}), std::invalid_argument);  // no axes' rows
 }
 
 }  // namespace
