@@ -170,7 +170,7 @@ class RegistrationPriorScale {
   bool has_enough_evidence() const { return dimensions_ >= kEnoughEvidenceDimensions; }
 
   // Starts from what other scenes' disagreements said (registration_scale_pool.hpp): their summed log
-  // likelihoods on log_likelihood_grid's grid (17 × 81 and 81, relative to this scene's prior), added to
+  // likelihoods on log_likelihood_grid's grid (17 × 81 and 3 × 81, relative to this scene's prior), added to
   // the posterior of this estimate and every later one. The scales are that posterior's mean at once.
   void start_from(std::shared_ptr<const std::vector<double>> pooled);
 
@@ -185,9 +185,9 @@ class RegistrationPriorScale {
   // The log marginal likelihood (up to a constant) of κ_t = 2^(grid index / 4 − 10) and κ_n = ρ κ_t
   // for the evidence so far.
   std::vector<double> log_likelihood(double log2_ratio = 0.0) const;
-  // log_likelihood for log2 ρ = −8, −7, …, 8 in turn (17 × 81, ratio-major), then that of κ_v (81, with
-  // κ_t and κ_n at their estimates; zeros without vertical coordinates): the scene's part of the scales
-  // learned across scenes (registration_scale_pool.hpp).
+  // log_likelihood for log2 ρ = −8, −7, …, 8 in turn (17 × 81, ratio-major), then that of each of
+  // kAxisGroups alone (81 each, the others at their estimates; zeros where the scene has none of its
+  // coordinates): the scene's part of the scales learned across scenes (registration_scale_pool.hpp).
   std::vector<double> log_likelihood_grid() const;
 
  private:

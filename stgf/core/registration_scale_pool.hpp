@@ -98,7 +98,7 @@ class RegistrationScalePool {
   // (counting those with disagreements only).
   std::optional<Point> estimate_for(std::size_t scene_index) const;
   // Use::kEvidence: the summed log likelihoods of the scenes of the epochs before its own, on a scene's
-  // grid (17 × 81, ratio-major, and 81 of κ_v), for it to start from (RegistrationPriorScale::start_from); none before
+  // grid (17 × 81, ratio-major, and 3 × 81 of the axis groups), for it to start from (RegistrationPriorScale::start_from); none before
   // any scene. Every scene must have run with the calibration's prior (added with Point{}).
   std::optional<std::vector<double>> evidence_for(std::size_t scene_index) const;
 
