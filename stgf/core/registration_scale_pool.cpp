@@ -87,26 +87,25 @@ std::optional<RegistrationScalePool::Point> RegistrationScalePool::estimate_for(
       }
     }
   }
-  // Each axis group: its row's argmax; a flat row (no scene had such offsets to compare) says nothing,
-  // and leaves it at the calibration's.
-  for (std::size_t a = 0; best && a < kAxes; ++a) {
-    double highest = -std::numeric_limits<double>::infinity(), lowest = std::numeric_limits<double>::infinity();
-    for (int k = 0; k < kScaleIndices; ++k) {
-      const auto j = static_cast<std::size_t>(k + kUnitScale);
-      if (before.evidence.axes_covered[a][j] != before.scenes) continue;
-      const double value = before.evidence.axes[a][j];
-      lowest = std::min(lowest, value);
-      if (value > highest) {
-        highest = value;
-        best->axes[a] = k;
-      }
+  if (!best) return best;
+  // κ_v: its row's argmax; a flat row (no scene had vertical offsets to compare) says nothing, and
+  // leaves it at the calibration's.
+  double highest = -std::numeric_limits<double>::infinity(), lowest = std::numeric_limits<double>::infinity();
+  for (int k = 0; k < kScaleIndices; ++k) {
+    const auto j = static_cast<std::size_t>(k + kUnitScale);
+    if (before.evidence.axes_covered[kVerticalAxis][j] != before.scenes) continue;
+    const double value = before.evidence.axes[kVerticalAxis][j];
+    lowest = std::min(lowest, value);
+    if (value > highest) {
+      highest = value;
+      best->axes[kVerticalAxis] = k;
     }
-    if (!(highest > lowest)) best->axes[a] = kUnitScale;
   }
-  if (best && use_ == Use::kLowerOnly) best = best->lowered_to_unit();
+  if (!(highest > lowest)) best->axes[kVerticalAxis] = kUnitScale;
+  if (use_ == Use::kLowerOnly) best = best->lowered_to_unit();
   // δ along and across the rays follow κ_n here (RegistrationPriorScale: they are learned apart only from
   // other scenes' evidence, Use::kEvidence): κ_n's index on κ_t's grid, k + 4 (r − 8), at least 0.
-  if (best) best->axes[0] = best->axes[1] = std::clamp(best->scale + 4 * (best->ratio - kUnitRatio), 0, kScaleIndices - 1);
+  best->axes[0] = best->axes[1] = std::clamp(best->scale + 4 * (best->ratio - kUnitRatio), 0, kScaleIndices - 1);
   return best;
 }
 

@@ -75,6 +75,8 @@ class RegistrationScalePool {
   // RegistrationPriorScale::log_likelihood_grid).
   static constexpr int kGridSize = RegistrationPriorScale::kPooledGridSize;
   static constexpr std::size_t kAxes = RegistrationPriorScale::kAxisGroups.size();
+  static constexpr std::size_t kVerticalAxis = 2;  // κ_v's place among them
+  static_assert(RegistrationPriorScale::kAxisGroups[kVerticalAxis] == RegistrationPriorScale::Group::kVertical);
 
   // A grid point of the scales: κ_t = 2^(scale / 4 − 10), κ_n = κ_t 2^(ratio − 8), and the axis groups'
   // (along, across, vertical: RegistrationPriorScale::kAxisGroups) 2^(axes[a] / 4 − 10).
