@@ -49,7 +49,7 @@ namespace {
 namespace fs = std::filesystem;
 
 // Bump when training changes in a way that makes older reproduce models stale.
-constexpr int kTrainingRecipeVersion = 6;  // 6: one track per object, offsets estimated jointly, in the filter-regime Q
+constexpr int kTrainingRecipeVersion = 7;  // 7: the registration prior per axis with a range scale on fixed sensors, and their kind recorded
 constexpr int kFromStep = 2;
 const char* const kRegistrationOff = "ours-registration-off";
 // `ours` with the paper's per-view tracks instead of one track per object.

@@ -2,6 +2,8 @@
 // stgf train --benchmark DIR --out MODEL.pt [--input raw|fused] [--epochs N] [--lr X] [--batch N]
 //            [--seed S] [--threads N] [--portable] [--resume MODEL.pt] [--no-resume-state] [--history N] [--history-noise observed|matched]
 
+#include <cstdint>
+
 #include "commands.hpp"
 #include "learned_seam.hpp"
 #include "training_pipeline.hpp"
@@ -72,16 +74,19 @@ void add_train_command(CLI::App& app) {
       ->check(CLI::IsMember({"float32", "float16"}))
       ->capture_default_str();
   command->add_option("--noise-ratio", options->noise_ratio,
-                      "the registration prior's offset in units of the noise: one α for all three axes, or per-axis: "
-                      "one each along, across and vertical to the measurements' rays (better on vehicles whose "
-                      "offsets lie across their rays; a zero on an axis cannot be scaled out of on other data, "
-                      "docs/design.md §1.7)")
-      ->check(CLI::IsMember({"one", "per-axis"}))
+                      "the registration prior's offset in units of the noise: one α for all three axes, per-axis: "
+                      "one each along, across and vertical to the measurements' rays (a zero on an axis cannot be "
+                      "scaled out of on other data), or auto: per-axis where every view of the validation split "
+                      "stands still (cameras: tilt and pan errors differ), one where views move (docs/design.md §1.7)")
+      ->check(CLI::IsMember({"auto", "one", "per-axis"}))
       ->capture_default_str();
-  command->add_flag("--range-scale", options->range_scale,
-                    "also calibrate a scale of each view's horizontal range about its sensor (a ground-plane camera's "
-                    "height error, a range sensor's scale error; needs sensor_x, sensor_y in the rows): on cameras "
-                    "3x and 5x worse calibrated it lowered DE 6-11 % but raised NEES (docs/design.md §1.7)");
+  command->add_flag_function(
+      "--range-scale,!--no-range-scale",
+      [options](std::int64_t count) { options->range_scale = count > 0; },
+      "calibrate (or not) a scale of each view's horizontal range about its sensor (a ground-plane camera's "
+      "height error, a range sensor's scale error; needs sensor_x, sensor_y in the rows); default: where every "
+      "view of the validation split stands still (on cameras 3x and 5x worse calibrated than the training "
+      "data, without it the covariance is too narrow: docs/design.md §1.7)");
   command->add_option("--history", t.shape.history_length, "history intervals Φ sees")
       ->capture_default_str()
       ->check(CLI::PositiveNumber);

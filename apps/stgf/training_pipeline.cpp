@@ -20,6 +20,7 @@
 
 #include "input_guard.hpp"
 #include "stgf/core/registration_calibration.hpp"
+#include "stgf/core/sensor_motion.hpp"
 #include "stgf/core/steps.hpp"
 #include "stgf/io/input_error.hpp"
 #include "stgf/io/measurement_file.hpp"
@@ -68,6 +69,16 @@ struct Split {
   std::vector<Vector3d> target_of_row;
   std::vector<Matrix3d> target_covariance_of_row;  // empty for the truth
 };
+
+// The kind of sensors of `measurements`' scenes (sensor_motion.hpp): one kind, or none where both occur.
+std::optional<SensorMotion> sensors_of(std::span<const Measurement> measurements) {
+  bool fixed = false, moving = false;
+  for (const Scene& scene : group_into_scenes(measurements)) {
+    (sensor_motion(measurements, scene) == SensorMotion::kMoving ? moving : fixed) = true;
+  }
+  if (fixed == moving) return std::nullopt;
+  return fixed ? SensorMotion::kFixed : SensorMotion::kMoving;
+}
 
 // The median interval between consecutive history positions of `graphs` (0 without any).
 double median_history_interval(const std::vector<TrainingGraph>& graphs) {
@@ -317,11 +328,21 @@ void train_model(ModelTraining options) {
     spdlog::info("history positions spaced by the fastest benchmark's frame period, {:.3g} s", train.frame_period);
   }
   const Split validation = read_splits(options.benchmarks, "/val", source, history, with_truth);
-  // The views' registration prior, on the validation split (of every benchmark together).
-  const NoiseRatioAxes axes = options.noise_ratio == "per-axis" ? NoiseRatioAxes::kPerAxis : NoiseRatioAxes::kOne;
+  // The views' registration prior, on the validation split (of every benchmark together). Where all its
+  // sensors stand still (cameras), by default α per axis and a range scale: a camera's tilt and pan
+  // errors differ, and its height error scales its ranges, which on cameras worse calibrated than the
+  // training data's leaves the covariance too narrow without it (design §1.7); where they move, or are
+  // of both kinds, one α and no range scale (a vehicle's along-ray α calibrates to zero, which no
+  // scale can undo on other data).
+  const std::optional<SensorMotion> sensors = sensors_of(validation.measurements);
+  const bool fixed_sensors = sensors == SensorMotion::kFixed;
+  const bool per_axis = options.noise_ratio == "per-axis" || (options.noise_ratio == "auto" && fixed_sensors);
+  const bool range_scale = options.range_scale.value_or(fixed_sensors);
+  const NoiseRatioAxes axes = per_axis ? NoiseRatioAxes::kPerAxis : NoiseRatioAxes::kOne;
   RegistrationCalibration calibrated =
-      with_truth ? calibrate_registration_prior(validation.measurements, validation.target_of_row, axes, options.range_scale)
-                 : calibrate_registration_prior_from_disagreements(validation.measurements, axes, options.range_scale);
+      with_truth ? calibrate_registration_prior(validation.measurements, validation.target_of_row, axes, range_scale)
+                 : calibrate_registration_prior_from_disagreements(validation.measurements, axes, range_scale);
+  calibrated.prior.calibrated_sensors = sensors;
   if (options.rotate) {  // a prior that does not depend on the world frame's heading either
     Vector3d& sigma = calibrated.prior.translation_sigma;
     sigma.x() = sigma.y() = std::sqrt(0.5 * (sigma.x() * sigma.x() + sigma.y() * sigma.y()));
@@ -343,7 +364,10 @@ void train_model(ModelTraining options) {
                    ? fmt::format("{:.3g}", ratio.x())
                    : fmt::format("along, across, vertical to the rays ({:.3g}, {:.3g}, {:.3g})", ratio.x(), ratio.y(),
                                  ratio.z()));
-  if (options.range_scale) spdlog::info("registration range scale sigma {:.3g}", registration.range_scale_sigma);
+  if (range_scale) spdlog::info("registration range scale sigma {:.3g}", registration.range_scale_sigma);
+  spdlog::info("registration calibrated on {}", !sensors ? "sensors of both kinds (fixed and moving)"
+                                                : fixed_sensors ? "fixed sensors: its shape is expected to hold on fixed ones"
+                                                                : "moving sensors: its shape is expected to hold on moving ones");
   options.training.metadata["registration"] = registration_prior_to_json(registration);
   std::string calibrated_on;
   for (const std::string& benchmark : options.benchmarks) {

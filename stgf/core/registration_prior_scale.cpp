@@ -221,6 +221,14 @@ struct GridPriors {
 
 }  // namespace
 
+void RegistrationPriorScale::set_two_scales_probability(double probability) {
+  if (!(probability > 0.0 && probability < 1.0)) {
+    throw std::invalid_argument("RegistrationPriorScale::set_two_scales_probability: a probability in (0, 1)");
+  }
+  if (estimated()) throw std::logic_error("RegistrationPriorScale::set_two_scales_probability: after an estimate");
+  two_scales_log_odds_ = std::log(probability / (1.0 - probability));
+}
+
 void RegistrationPriorScale::start_from(std::shared_ptr<const std::vector<double>> pooled) {
   if (pooled == nullptr || pooled->size() != static_cast<std::size_t>(kPooledGridSize)) {
     throw std::invalid_argument("RegistrationPriorScale::start_from: a grid of 17 × 81 and 3 × 81 log likelihoods");
@@ -285,8 +293,8 @@ bool RegistrationPriorScale::update() {
 }
 
 RegistrationPriorScales RegistrationPriorScale::posterior_mean() const {
-  // Two hypotheses, a priori equally likely (header): one scale (ρ = 1, ln κ ~ N(0, s²)), and two
-  // (ln κ_t, ln κ_n ~ N(0, s²) independent, ρ on its grid), each prior normalised over its own grid;
+  // Two hypotheses (header): one scale (ρ = 1, ln κ ~ N(0, s²)), and two (ln κ_t, ln κ_n ~ N(0, s²)
+  // independent, ρ on its grid) with prior odds two_scales_log_odds_, each prior normalised over its own grid;
   // (κ̂_t, κ̂_n) is the posterior mean over both. Views with coordinates of one kind only: one scale
   // (unless other scenes' evidence is pooled in, which may have had both).
   static const GridPriors priors;
@@ -317,7 +325,8 @@ RegistrationPriorScales RegistrationPriorScale::posterior_mean() const {
     const double log2_ratio = grid_log2_ratio(r);
     const std::array<double, kGridPoints> likelihood = r == kEqualRatio ? equal : likelihood_at(log2_ratio);
     for (std::size_t k = 0; k < kGridPoints; ++k) {
-      peak = std::max(peak, weights[row + 1][k] = likelihood[k] + pooled(log2_ratio, k) + priors.two[row][k]);
+      peak = std::max(peak, weights[row + 1][k] =
+                                likelihood[k] + pooled(log2_ratio, k) + priors.two[row][k] + two_scales_log_odds_);
     }
   }
   double total = 0.0, translation = 0.0, noise_ratio = 0.0;

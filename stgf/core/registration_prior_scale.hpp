@@ -35,7 +35,8 @@
 // through the LDLᵀ of I/κ_t + T: one tridiagonalisation, O(c³), per ratio.
 //
 // Estimate: (κ̂_t, κ̂_n) = E[(κ_t, κ_n) | data], the posterior mean under two hypotheses, a priori
-// equally likely, each with its prior normalised over its own grid:
+// equally likely unless the sensors are of the kind the prior was calibrated on (below), each with its
+// prior normalised over its own grid:
 //   one scale   κ_n = κ_t = κ, ln κ ~ N(0, s²), log₂ κ ∈ [−10, 10] in steps of 1/4 (the prior's shape
 //               as calibrated: what a model meets on sensors like its training data's);
 //   two scales  ln κ_t, ln κ_n ~ N(0, s²) independent, on the same grid of κ_t times ratios
@@ -50,6 +51,19 @@
 // mpl's own model 0.0323 → 0.0326 m (NEES 2.56 → 2.53), the cost of estimating two scales where one
 // fits; cad val with its own model 0.4685 → 0.4683 m (NEES 2.88 → 2.78). With views of one kind of
 // coordinate only (α = 0, or σ = 0), one scale alone.
+// Sensors of the calibration's kind (2026-11-28). Where the scene's sensors are of the kind the prior was
+// calibrated on (fixed cameras for a model trained on cameras; RegistrationPrior::calibrated_sensors),
+// their offsets are expected in the calibrated shape at some size, and the two-scale hypothesis is
+// given prior probability kTwoScalesOnCalibratedSensors = 0.01 (set_two_scales_probability): a short
+// scene's disagreements hardly tell a larger translation from a larger offset in units of the noise,
+// and the two-scale hypothesis then scatters κ̂_n widely from scene to scene (mpl's model on cameras 3×
+// worse calibrated: κ̂_n's 10th-90th percentiles 6.6-110 where the truth is 9), which leaves a third of
+// the scenes overconfident. Strong evidence still moves it (odds of 99 to 1 are 4.6 nats of log likelihood: a
+// model of cameras meeting vehicles' GPS offsets, or a scene pooled with others'). Chosen on validation
+// splits (design §1.7): mpl's model (α per axis, range scale) on mpl val 3× and 5× the calibration
+// error, NEES 3.37 and 3.69 → 3.06 and 3.32, DE 0.0572 and 0.0850 → 0.0586 and 0.0866 m; with odds of
+// 1 to 9, 3.12 and 3.40; cad's model on cad val (pooled) 3.11 → 3.16, DE unchanged.
+//
 // The mean, not the mode: the evidence of a short scene is thin, and a covariance made from the mode
 // then too often shrinks below what the offsets are (a filter that underestimates them is
 // overconfident; one that overestimates them loses a little accuracy). Chosen on validation splits for one scale (design §1.7): mode with s = 2 gave NEES
@@ -169,6 +183,13 @@ class RegistrationPriorScale {
   // offsets there are, once each is known): a caller may stop adding it.
   bool has_enough_evidence() const { return dimensions_ >= kEnoughEvidenceDimensions; }
 
+  // The two-scale hypothesis's prior probability, in (0, 1): kTwoScalesAnySensors unless the scene's
+  // sensors are of the kind the prior was calibrated on (kTwoScalesOnCalibratedSensors). Before any
+  // estimate (and start_from).
+  static constexpr double kTwoScalesAnySensors = 0.5;
+  static constexpr double kTwoScalesOnCalibratedSensors = 0.01;
+  void set_two_scales_probability(double probability);
+
   // Starts from what other scenes' disagreements said (registration_scale_pool.hpp): their summed log
   // likelihoods on log_likelihood_grid's grid (17 × 81 and 3 × 81, relative to this scene's prior), added to
   // the posterior of this estimate and every later one. The scales are that posterior's mean at once.
@@ -218,6 +239,7 @@ class RegistrationPriorScale {
   double estimated_at_ = 0.0;  // evidence dimensions of the last estimate
   RegistrationPriorScales scales_;
   std::shared_ptr<const std::vector<double>> pooled_;  // other scenes' log likelihoods (start_from)
+  double two_scales_log_odds_ = 0.0;                   // ln(p / (1 − p)) of the two-scale hypothesis
 };
 
 // A group's scale in `scales` (1 for kFixed).

@@ -123,6 +123,7 @@ SceneFilter::SceneFilter(const MotionPredictor& predictor, const FilterOptions& 
   if (!std::isfinite(options.lag_window) || options.lag_window < 0.0) {
     throw std::invalid_argument("the lag window must be finite and >= 0 seconds");
   }
+  state_.joint.set_prior_scale_two_scales_probability(options_.registration_two_scales_probability);
   if (options_.registration_scale_start) state_.joint.start_prior_scale_from(options_.registration_scale_start);
   if (options_.lag_window > 0.0) checkpoints_.push_back({-std::numeric_limits<double>::infinity(), state_});
 }

@@ -118,6 +118,9 @@ struct FilterOptions {
   // kPerObject: learn the registration prior's scales κ_t, κ_n from the views' disagreements
   // (registration_prior_scale.hpp; false: κ = 1, the prior as given)
   bool adapt_registration_prior = true;
+  // The prior probability of the scales' two-scale hypothesis (registration_prior_scale.hpp): lower where
+  // the scene's sensors are of the kind the prior was calibrated on (filter_runner.cpp).
+  double registration_two_scales_probability = RegistrationPriorScale::kTwoScalesAnySensors;
   // What other scenes' disagreements said of the registration prior's scales: this scene's start, and
   // part of every estimate it makes of them (registration_scale_pool.hpp; none: its prior alone).
   std::shared_ptr<const std::vector<double>> registration_scale_start;

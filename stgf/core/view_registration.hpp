@@ -49,6 +49,7 @@
 // Cost: state 7n for n views; a learning update is O((6n)² k) per object, a fusion O((3k)³).
 
 #include <map>
+#include <optional>
 #include <span>
 #include <string>
 
@@ -56,6 +57,7 @@
 
 #include "stgf/core/gaussian.hpp"
 #include "stgf/core/records.hpp"
+#include "stgf/core/sensor_motion.hpp"
 
 namespace stgf {
 
@@ -74,6 +76,9 @@ struct RegistrationPrior {
   Vector3d noise_ratio = Vector3d::Zero();
   // σ_ε of the view's horizontal range scale ε (a ratio: 0.01 is 1 %); 0: none.
   double range_scale_sigma = 0.0;
+  // The kind of sensors it was calibrated on, where all were of one kind (none: unknown, or both kinds):
+  // on sensors of that kind its shape is expected to hold (registration_prior_scale.hpp).
+  std::optional<SensorMotion> calibrated_sensors;
   bool is_zero() const { return translation_sigma.isZero() && noise_ratio.isZero() && range_scale_sigma == 0.0; }
   // diag(σ_x², σ_y², σ_z², α_along², α_across², α_vertical², σ_ε²). Throws std::invalid_argument when a
   // σ or α is negative or not finite.

@@ -15,6 +15,9 @@ nlohmann::json registration_prior_to_json(const RegistrationPrior& prior) {
                               : nlohmann::json{prior.noise_ratio.x(), prior.noise_ratio.y(), prior.noise_ratio.z()}}};
   // Written only when there is one, so that a model calibrated without it is the file it was before.
   if (prior.range_scale_sigma > 0.0) entry["range_scale_sigma"] = prior.range_scale_sigma;
+  if (prior.calibrated_sensors) {
+    entry["sensors"] = *prior.calibrated_sensors == SensorMotion::kMoving ? "moving" : "fixed";
+  }
   return entry;
 }
 
@@ -32,11 +35,12 @@ std::optional<RegistrationPrior> registration_prior_from_metadata(const nlohmann
   const bool valid = entry.is_object() && entry.contains("translation_sigma_m") && entry.contains("noise_ratio") &&
                      three_finite_non_negative(entry.at("translation_sigma_m")) &&
                      (finite_non_negative(entry.at("noise_ratio")) || three_finite_non_negative(entry.at("noise_ratio"))) &&
-                     (!entry.contains("range_scale_sigma") || finite_non_negative(entry.at("range_scale_sigma")));
+                     (!entry.contains("range_scale_sigma") || finite_non_negative(entry.at("range_scale_sigma"))) &&
+                     (!entry.contains("sensors") || entry.at("sensors") == "fixed" || entry.at("sensors") == "moving");
   if (!valid) {
     throw InputError(path, 0, "malformed registration calibration in the model metadata (want translation_sigma_m: "
                               "[3 numbers >= 0], noise_ratio: number >= 0 or [3 numbers >= 0], range_scale_sigma: "
-                              "number >= 0 if given)");
+                              "number >= 0 if given, sensors: \"fixed\" or \"moving\" if given)");
   }
   RegistrationPrior prior;
   const nlohmann::json& sigma = entry.at("translation_sigma_m");
@@ -45,6 +49,9 @@ std::optional<RegistrationPrior> registration_prior_from_metadata(const nlohmann
   prior.noise_ratio = ratio.is_array() ? Vector3d(ratio[0].get<double>(), ratio[1].get<double>(), ratio[2].get<double>())
                                        : Vector3d::Constant(ratio.get<double>());
   prior.range_scale_sigma = entry.value("range_scale_sigma", 0.0);  // none: calibrated without one
+  if (entry.contains("sensors")) {  // none: sensors of both kinds, or a model from before it was recorded
+    prior.calibrated_sensors = entry.at("sensors") == "moving" ? SensorMotion::kMoving : SensorMotion::kFixed;
+  }
   return prior;
 }
 

@@ -6,6 +6,9 @@
 // "noise_ratio" is one number when α is the same along, across and vertical to each ray (every
 // model before α per axis, and so read), else [α_along, α_across, α_vertical]. "range_scale_sigma": σ_ε,
 // only when the model was calibrated with one (`stgf train --range-scale`); without it, none.
+// "sensors": "fixed" or "moving", the kind of sensors the calibration's data had where all were of one
+// kind (view_registration.hpp's calibrated_sensors); without it (both kinds, or a model from before it
+// was recorded), none.
 
 #include <optional>
 #include <string>

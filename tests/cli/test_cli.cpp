@@ -612,6 +612,16 @@ TEST_F(Cli, TrainThenRunLearnedMethods) {
   EXPECT_THAT(axes.err, HasSubstr("noise ratio"));
   ASSERT_EQ(stgf("run --method ours --model axes.pt" + test_rows + " --out ours-axes.csv").status, 0);
   EXPECT_NE(stgf("train --benchmark bench --out bad.pt --epochs 1 --noise-ratio two").status, 0);
+  // By default (auto), on views that stand still: α per axis and a range scale, and the model records
+  // that its calibration was on fixed sensors; --noise-ratio one --no-range-scale calibrate neither.
+  EXPECT_THAT(slurp(directory_ / "fused.pt"), HasSubstr("\"sensors\":\"fixed\""));
+  EXPECT_THAT(fused.err, HasSubstr("range scale sigma"));
+  const Result plain = stgf("train --benchmark bench --out plain.pt --input fused --epochs 1 --batch 8 --threads 1 "
+                            "--noise-ratio one --no-range-scale");
+  ASSERT_EQ(plain.status, 0) << plain.err;
+  EXPECT_THAT(plain.err, Not(HasSubstr("range scale sigma")));
+  EXPECT_THAT(plain.err, HasSubstr("registration calibrated on fixed sensors"));
+  EXPECT_THAT(slurp(directory_ / "plain.pt"), Not(HasSubstr("\"range_scale_sigma\"")));
   const Result fresh =
       stgf("train --benchmark bench --out fresh.pt --input fused --epochs 1 --batch 8 --threads 1 --resume slim.pt");
   ASSERT_EQ(fresh.status, 0) << fresh.err;

@@ -266,6 +266,45 @@ TEST(RegistrationPriorScale, FindsEachScaleWhenTheyDiffer) {
   }
 }
 
+// On sensors of the kind the prior was calibrated on, the two-scale hypothesis is a priori unlikely
+// (kTwoScalesOnCalibratedSensors): short scenes whose offsets are the prior's shape 9 times larger keep
+// κ̂_n near κ̂_t, where with even odds each scene's ratio scatters; strong evidence of two sizes (24 views,
+// translations 1/16 and offsets in units of the noise 4 times the prior's) still sets them apart.
+TEST(RegistrationPriorScale, ExpectsTheCalibratedShapeOnSensorsOfItsKind) {
+  const auto spread = [](double two_scales) {
+    double sum = 0.0;
+    const int seeds = 12;
+    for (int seed = 0; seed < seeds; ++seed) {
+      JointRegistration registration(kPrior);
+      registration.set_prior_scale_two_scales_probability(two_scales);
+      run(registration, make_scene(5, 3, 10, 9.0, 1100 + static_cast<std::uint64_t>(seed)), /*adapt=*/true);
+      const RegistrationPriorScales scales = registration.prior_scales();
+      sum += std::abs(std::log(scales.noise_ratio / scales.translation));
+    }
+    return sum / seeds;
+  };
+  const double calibrated_kind = spread(RegistrationPriorScale::kTwoScalesOnCalibratedSensors);
+  const double any_kind = spread(RegistrationPriorScale::kTwoScalesAnySensors);
+  EXPECT_LT(calibrated_kind, 0.5 * any_kind);
+  EXPECT_LT(calibrated_kind, std::log(1.5));
+  for (int seed = 0; seed < 3; ++seed) {
+    JointRegistration registration(kPrior);
+    registration.set_prior_scale_two_scales_probability(RegistrationPriorScale::kTwoScalesOnCalibratedSensors);
+    run(registration, make_scene(24, 5, 40, 1.0 / 16.0, 700 + static_cast<std::uint64_t>(seed), 4.0), /*adapt=*/true);
+    const RegistrationPriorScales scales = registration.prior_scales();
+    EXPECT_GT(scales.noise_ratio, 2.0) << "seed " << seed;
+    EXPECT_LT(scales.noise_ratio, 8.0) << "seed " << seed;
+    EXPECT_LT(scales.translation, scales.noise_ratio / 8.0) << "seed " << seed;
+  }
+  RegistrationPriorScale bad;
+  EXPECT_THROW(bad.set_two_scales_probability(0.0), std::invalid_argument);
+  EXPECT_THROW(bad.set_two_scales_probability(1.0), std::invalid_argument);
+  EXPECT_THROW(bad.set_two_scales_probability(std::nan("")), std::invalid_argument);
+  JointRegistration estimated(kPrior);
+  run(estimated, make_scene(4, 3, 6, 1.0, 5), /*adapt=*/true);
+  EXPECT_THROW(estimated.set_prior_scale_two_scales_probability(0.2), std::logic_error);
+}
+
 // A ground-plane camera's calibration error moves its points across the ground, not up: offsets 9 times
 // the prior's in variance horizontally and none vertically. The vertical ones take their own scale from
 // the z disagreements (κ_v near 0), so the offset common to all views, which no disagreement shows,

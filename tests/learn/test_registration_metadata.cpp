@@ -55,6 +55,26 @@ TEST(RegistrationMetadata, RangeScaleRoundTrip) {
   EXPECT_EQ(resolve_registration_prior(OursSettings{}, reread, "m.pt").range_scale_sigma, 0.0083);
 }
 
+// The kind of sensors the calibration's data had is written and read back; none (both kinds, or a
+// model from before it was recorded) is left out; another value is malformed.
+TEST(RegistrationMetadata, CalibratedSensorsRoundTrip) {
+  EXPECT_FALSE(registration_prior_from_metadata(metadata_with(calibrated_prior()), "m.pt")->calibrated_sensors);
+  EXPECT_FALSE(metadata_with(calibrated_prior()).at("registration").contains("sensors"));
+  for (const SensorMotion kind : kSensorMotions) {
+    RegistrationPrior prior = calibrated_prior();
+    prior.calibrated_sensors = kind;
+    const nlohmann::json reread = nlohmann::json::parse(metadata_with(prior).dump());
+    EXPECT_EQ(reread.at("registration").at("sensors").get<std::string>(), kind == SensorMotion::kFixed ? "fixed" : "moving");
+    EXPECT_EQ(registration_prior_from_metadata(reread, "m.pt")->calibrated_sensors, kind);
+    EXPECT_EQ(resolve_registration_prior(OursSettings{}, reread, "m.pt").calibrated_sensors, kind);
+  }
+  for (const nlohmann::json& bad : {nlohmann::json("parked"), nlohmann::json(1)}) {
+    nlohmann::json metadata = metadata_with(calibrated_prior());
+    metadata["registration"]["sensors"] = bad;
+    expect_input_error([&] { registration_prior_from_metadata(metadata, "models/m.pt"); }, "models/m.pt", 0);
+  }
+}
+
 TEST(RegistrationMetadata, MissingCalibrationIsNullopt) {
   EXPECT_FALSE(registration_prior_from_metadata(nlohmann::json::object(), "m.pt").has_value());
   EXPECT_FALSE(registration_prior_from_metadata({{"trained_on", "mpl"}}, "m.pt").has_value());
