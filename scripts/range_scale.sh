@@ -2,7 +2,7 @@
 # SPDX-License-Identifier: Apache-2.0
 # The registration's range scale (design §1.7, `stgf train --range-scale`) measured on the cameras:
 # four mpl models trained as scripts/results.sh trains its own (8 epochs, seed 1, --portable) and
-# calibrated on mpl val — as by default (one α), with per-axis α, with a range scale and one α, and
+# calibrated on mpl val — with one α (the default before 2026-11-28, `--noise-ratio one --no-range-scale`), with per-axis α, with a range scale and one α, and
 # with a range scale and per-axis α — each scored by `ours` (and the first and last also with the
 # prior's scales learned across scenes, `registration_prior_scale: across-scenes`) on mpl val and
 # the 3× and 5× calibration-error proxies' val splits (what the choice is made on), then on their test
@@ -16,8 +16,8 @@ proxies=build/generalization
 [ -d "$proxies/mpl-calibration-x5" ] || { echo "run scripts/generalization.sh first" >&2; exit 2; }
 out=build/range-scale
 mkdir -p "$out"
-declare -A options=([default]="" [per-axis]="--noise-ratio per-axis" [range-scale]="--range-scale"
-                    [per-axis-range-scale]="--noise-ratio per-axis --range-scale")
+declare -A options=([default]="--noise-ratio one --no-range-scale" [per-axis]="--noise-ratio per-axis --no-range-scale"
+                    [range-scale]="--noise-ratio one --range-scale" [per-axis-range-scale]="--noise-ratio per-axis --range-scale")
 for name in default per-axis range-scale per-axis-range-scale; do
   # shellcheck disable=SC2086
   [ -f "$out/$name.pt" ] || build/stgf train --benchmark "$bench" --out "$out/$name.pt" --epochs 8 --seed 1 \
