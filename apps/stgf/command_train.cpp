@@ -76,16 +76,16 @@ void add_train_command(CLI::App& app) {
   command->add_option("--noise-ratio", options->noise_ratio,
                       "the registration prior's offset in units of the noise: one α for all three axes, per-axis: "
                       "one each along, across and vertical to the measurements' rays (a zero on an axis cannot be "
-                      "scaled out of on other data), or auto: per-axis where every view of the validation split "
-                      "stands still (cameras: tilt and pan errors differ), one where views move (docs/design.md §1.7)")
+                      "scaled out of on other data), or auto: per-axis for one benchmark whose views all stand still "
+                      "(cameras: tilt and pan errors differ), else one (docs/design.md §1.7)")
       ->check(CLI::IsMember({"auto", "one", "per-axis"}))
       ->capture_default_str();
   command->add_flag_function(
       "--range-scale,!--no-range-scale",
       [options](std::int64_t count) { options->range_scale = count > 0; },
       "calibrate (or not) a scale of each view's horizontal range about its sensor (a ground-plane camera's "
-      "height error, a range sensor's scale error; needs sensor_x, sensor_y in the rows); default: where every "
-      "view of the validation split stands still (on cameras 3x and 5x worse calibrated than the training "
+      "height error, a range sensor's scale error; needs sensor_x, sensor_y in the rows); default: for one "
+      "benchmark whose views all stand still (on cameras 3x and 5x worse calibrated than the training "
       "data, without it the covariance is too narrow: docs/design.md §1.7)");
   command->add_option("--history", t.shape.history_length, "history intervals Φ sees")
       ->capture_default_str()

@@ -328,16 +328,19 @@ void train_model(ModelTraining options) {
     spdlog::info("history positions spaced by the fastest benchmark's frame period, {:.3g} s", train.frame_period);
   }
   const Split validation = read_splits(options.benchmarks, "/val", source, history, with_truth);
-  // The views' registration prior, on the validation split (of every benchmark together). Where all its
-  // sensors stand still (cameras), by default α per axis and a range scale: a camera's tilt and pan
-  // errors differ, and its height error scales its ranges, which on cameras worse calibrated than the
-  // training data's leaves the covariance too narrow without it (design §1.7); where they move, or are
-  // of both kinds, one α and no range scale (a vehicle's along-ray α calibrates to zero, which no
-  // scale can undo on other data).
+  // The views' registration prior, on the validation split (of every benchmark together). For a model
+  // of one benchmark whose sensors all stand still (cameras), by default α per axis and a range scale:
+  // a camera's tilt and pan errors differ, and its height error scales its ranges, which on cameras
+  // worse calibrated than the training data's leaves the covariance too narrow without it (design
+  // §1.7). Where they move, one α and no range scale (a vehicle's along-ray α calibrates to zero, which
+  // no scale can undo on other data); and for a model of several benchmarks, which is meant for sensors
+  // unlike its training data's, one α too (cameras' axes and range scale cost the model trained
+  // without cad 19 % on cad's vehicles: design §1.7).
   const std::optional<SensorMotion> sensors = sensors_of(validation.measurements);
   const bool fixed_sensors = sensors == SensorMotion::kFixed;
-  const bool per_axis = options.noise_ratio == "per-axis" || (options.noise_ratio == "auto" && fixed_sensors);
-  const bool range_scale = options.range_scale.value_or(fixed_sensors);
+  const bool cameras_model = fixed_sensors && options.benchmarks.size() == 1;
+  const bool per_axis = options.noise_ratio == "per-axis" || (options.noise_ratio == "auto" && cameras_model);
+  const bool range_scale = options.range_scale.value_or(cameras_model);
   const NoiseRatioAxes axes = per_axis ? NoiseRatioAxes::kPerAxis : NoiseRatioAxes::kOne;
   RegistrationCalibration calibrated =
       with_truth ? calibrate_registration_prior(validation.measurements, validation.target_of_row, axes, range_scale)

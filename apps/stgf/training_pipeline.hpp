@@ -44,11 +44,11 @@ struct ModelTraining {
   std::vector<int> strides = {1, 2, 3};
   std::string weights = "float32";  // how the model file stores the weights: float32 | float16
   // The registration prior's α: one for all three axes of δ, or one per axis of the rays' frame
-  // (registration_calibration.hpp: NoiseRatioAxes): one | per-axis | auto (per axis where every view of
-  // the validation data stands still, design §1.7).
+  // (registration_calibration.hpp: NoiseRatioAxes): one | per-axis | auto (per axis for one benchmark
+  // whose views all stand still, design §1.7).
   std::string noise_ratio = "auto";
   // Also calibrate σ_ε of each view's range scale (registration_calibration.hpp); false: none; unset
-  // (auto): where every view of the validation data stands still.
+  // (auto): for one benchmark whose views all stand still.
   std::optional<bool> range_scale;
   bool rotate = false;  // turn each training graph by a random heading every epoch (MotionTrainingOptions::rotate)
   // Q also calibrated at intervals up to this many seconds (calibrate_process_noise_intervals), so that

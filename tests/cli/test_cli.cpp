@@ -636,6 +636,14 @@ TEST_F(Cli, TrainThenRunLearnedMethods) {
   const std::string tuned_bytes = slurp(directory_ / "tuned.pt");
   EXPECT_THAT(tuned_bytes, HasSubstr("\"calibrated_on\":\"other/val\""));
   EXPECT_THAT(tuned_bytes, Not(HasSubstr("\"calibrated_on\":\"bench/val\"")));
+  // A model of several benchmarks keeps one α and no range scale by default (it is meant for sensors
+  // unlike its training data's), though its views stand still.
+  const Result several =
+      stgf("train --benchmark bench,other --out several.pt --input fused --epochs 1 --batch 8 --threads 1");
+  ASSERT_EQ(several.status, 0) << several.err;
+  EXPECT_THAT(several.err, Not(HasSubstr("range scale sigma")));
+  EXPECT_THAT(several.err, Not(HasSubstr("along, across, vertical to the rays")));
+  EXPECT_THAT(several.err, HasSubstr("registration calibrated on fixed sensors"));
   const Result raw = stgf("train --benchmark bench --out raw.pt --input raw --epochs 1 --threads 1");
   ASSERT_EQ(raw.status, 0) << raw.err;
   const std::string m = "--measurements bench/test/measurements.csv";
