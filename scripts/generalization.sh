@@ -278,39 +278,42 @@ cat >> "$out/generalization.md" <<'NOTES'
   where the data's frames are further apart than Φ's curve reaches, tracks coast by constant
   velocity with a Q measured at those intervals, and the coasting Q has its own online scale
   (design §1.2). So with the mpl model on ETH/UCY (2.5 Hz, every track coasts) `ours-motion-off`
-  equals `ours`, and `ours-fixed-q` shows what that scale does: NEES 4.78 → 3.25, DE 0.1066 →
-  0.0978 m.
+  equals `ours`, and `ours-fixed-q` shows what that scale does: NEES 5.11 → 3.48, DE 0.1078 →
+  0.0990 m.
 - **ETH/UCY with a model from other data.** Both the mpl model (pedestrians at 7 Hz) and the cad
-  model (vehicles at 10 Hz) now beat `wls` and `mmt` on the eth scene (0.0978 and 0.1020 against
-  0.1032 m), the mpl model with NEES 3.25, the cad model 1.67 (below); and the mpl model beats
-  them by 8–11 % on every other scene held out (the last table), NEES 3.1–3.2. What helps there is the
+  model (vehicles at 10 Hz) now beat `wls` and `mmt` on the eth scene (0.0990 and 0.1020 against
+  0.1032 m), the mpl model with NEES 3.48, the cad model 1.67 (below); and the mpl model beats
+  them by 7–10 % on every other scene held out (the last table), NEES 3.28–3.54 (univ just above
+  3.5; 3.06–3.22 with the one α mpl's model had until 2026-11-28, design §1.7). What helps there is the
   coasting prediction with an honest Q, not Φ, which forecasts only from histories at about its own
-  training rate; on eth the mpl model's registration handling gains only 0.3 %
-  (`ours-registration-off` 0.0981 m, NEES 4.13). To gain from Φ itself, train it on data like yours
+  training rate; on eth the mpl model's registration handling costs 0.9 % (`ours-registration-off`
+  0.0981 m) for a covariance that means something (NEES 4.13 without it). To gain from Φ itself, train it on data like yours
   (`stgf dataset` or your own benchmark folder, then `stgf train`).
 - Cameras 3 and 5 times worse calibrated than the training benchmark's: with the prior the model
-  calibrated, `ours-fixed-prior` trusts the offsets' estimates too much (NEES 9 and 22). `ours`
+  calibrated, `ours-fixed-prior` trusts the offsets' estimates too much (NEES 8.4 and 19.0). `ours`
   scales the prior per scene from what the views disagree on (`stgf run` logs the scales over the
-  scenes: κ_t's and κ_n's medians 9.1 and 10.9, and 27.8 and 29.1 here, against the true 9 and 25 for
-  both, and the vertical offsets' κ_v 0.3, the cameras' calibration errors moving their points across
-  the ground only) and is a little more accurate. But it is not honest: NEES 3.61 and 3.97, the
-  ground position overconfident (x, y 2.51 and 2.84, where 2 is right) and the height right (z 1.1).
-  Each scene's κ scatters about the truth (10–90 % 4.0–19.0 at 3×), and the scenes whose estimate
-  falls short are overconfident by more than the others are cautious; the height errors' offsets
-  along the rays, which grow linearly with range where the model's grow as R does (design §1.7),
-  add to it. Until 2026-11-28 these rows read NEES 2.9 and 3.2: the vertical offsets then shared
-  κ_n, so the heights were far too uncertain (z 0.1–0.2) and hid the ground's overconfidence in the
-  3-D mean (`stgf eval` now gives both). `ours-registration-off` shows what the offsets cost a
+  scenes: κ's medians 10.8 and 34.6 here, against the true 9 and 25) and is more accurate still:
+  0.0637 and 0.0938 m, NEES 3.25 and 3.53 (x, y 2.30 and 2.56, where 2 is right; z 0.95 and 0.97).
+  mpl's model is calibrated per axis of the rays with a range scale (`stgf train`'s default on one
+  benchmark of cameras), the shape a camera's tilt, pan and height errors give, and on cameras it
+  expects that shape, learning its size (design §1.7). Until then (one α, and each scene free to
+  size its translations and its offsets in units of the noise apart) these rows read 0.0678 / 3.61
+  and 0.1036 / 3.97 (x, y 2.51 and 2.84): each scene's two scales scattered, and the scenes short of
+  the truth were overconfident by more than the others were cautious. What is left at 5× is the
+  first steps of each 20-step scene, before its disagreements have sized the offsets (from step 2 on,
+  x, y 3.0 at the third step, 2.4–2.6 from the fifth), and the far points' offsets, which grow faster
+  than linearly with a camera's tilt error. `ours-registration-off` shows what the offsets cost a
   filter that ignores them.
 - The same cameras on their own clocks (a phase per camera within the frame period, as
   docs/results.md's asynchronous splits, and scored as they are, from two frame periods on): no two
   views ever measure a pedestrian at the same time, so the views are compared within each track's
   frame, their measurements moved along its predicted path to one time (design §1.7,
-  `stgf/core/frame_alignment.hpp`). `ours` is at 0.0800 and 0.1171 m against `mmt`'s 0.4127 and
-  0.6328 m (`wls` fuses one view at a time there), with NEES 4.15 and 4.68 (`ours-fixed-prior`, the
-  prior as calibrated: 7.40 and 13.73): the ground position as on one clock (x, y 2.54 and 2.84), the
-  height too certain (z 1.6 and 1.8; 1.3 and 1.9 with the prior as calibrated, where on one clock it is
-  0.75), which the vertical offsets' scale, learned as on one clock (κ_v 0.35), does not take.
+  `stgf/core/frame_alignment.hpp`). `ours` is at 0.0753 and 0.1078 m against `mmt`'s 0.4127 and
+  0.6328 m (`wls` fuses one view at a time there), with NEES 3.82 and 4.24 (`ours-fixed-prior`, the
+  prior as calibrated: 7.12 and 13.10): the ground position a little less certain of itself than on one
+  clock warrants (x, y 2.43 and 2.72) and the height too certain (z 1.4 and 1.5, where on one clock it
+  is 1.0): between a track's single-view events its prediction's error is taken as independent
+  increments where Φ's error within a frame is one smooth deviation (design §1.2, known limitation).
 - The cad model's prior (vehicles' GPS errors, σ ≈ 0.3 m) is far too large for ETH/UCY's cameras
   (0.05 m): scaled down per scene (κ_t and κ_n medians 0.16 and 0.18), `ours` beats `wls` but stays
   too cautious (NEES 1.67, x, y 1.03; 0.93 with the prior as calibrated): a model of one benchmark
@@ -327,9 +330,9 @@ cat >> "$out/generalization.md" <<'NOTES'
 - **Q calibrated at longer intervals** (the last table, against models trained with
   `--long-intervals 0`). At 1 Hz `ours-l` is then a real one-second prediction (0.26 m, NEES 3.1), where before
   it was the measurement itself. Where the data is unlike mpl's, handing the wider-spaced histories
-  to constant velocity is what counts: at a third of mpl's rate `ours` gains 0.2 % and becomes
-  more honest (0.0457 m / NEES 2.70 against 0.0458 / 3.05), `ours-l` 24 % (0.105 against 0.138 m); on ETH/UCY the mpl model's `ours`
-  goes from 1–10 % below `wls`, NEES 4.1–4.9, to 5–11 % below it on all five scenes, NEES 3.1–3.3.
+  to constant velocity is what counts: at a third of mpl's rate `ours` loses 0.7 % and is as honest
+  (0.0451 m / NEES 2.93 against 0.0448 / 2.97), `ours-l` gains 23 % (0.105 against 0.137 m); on ETH/UCY the mpl model's `ours`
+  goes from 1–10 % below `wls`, NEES 4.0–4.7, to 4–10 % below it on all five scenes, NEES 3.3–3.5.
   At mpl's own rate nothing changes. On cad it gains 0.2 % at 10 Hz (0.3268 against
   0.3275) and 2.5 % (0.3496 against 0.3584) at 2 frames/s.
 - **Constant velocity where Φ does not fit** (design §1.13; compare `ours` with `ours-motion-off`).
@@ -348,9 +351,9 @@ cat >> "$out/generalization.md" <<'NOTES'
   which has no coasting Q to cross a frame with). The cad benchmark's training and validation scenes are too short to train or
   calibrate at such intervals.
 - **Without any calibration error** only Φ can help, and only where it predicts better than the
-  measurements alone: on the mpl test split with perfectly calibrated cameras `ours` is 23 % below
-  `wls` (0.0322 against 0.0420 m; NEES 2.90), though the offsets it allows for cost it 1.9 % there
-  (`ours-registration-off` 0.0316 m, NEES 4.00); on cad at 2 frames/s without GPS
+  measurements alone: on the mpl test split with perfectly calibrated cameras `ours` is 24 % below
+  `wls` (0.0321 against 0.0420 m; NEES 2.81), though the offsets it allows for cost it 1.6 % there
+  (`ours-registration-off` 0.0316 m, NEES 3.10); on cad at 2 frames/s without GPS
   errors it is 4.5 % ahead of `mmt` (0.1943 against 0.2035 m, NEES 2.74), as accurate as
   `ours-registration-off` (0.1936, NEES 2.94): the registration prior, calibrated with GPS errors,
   is scaled down from the views' disagreements by the run's scenes together (κ_t, κ_n and κ_v
@@ -363,13 +366,15 @@ cat >> "$out/generalization.md" <<'NOTES'
   cad's model — and on cad at 2 frames/s, where the run's scenes size the offsets along and across
   the rays apart and find them unlike one α (it suggests α at most (0.168, 2.73, 0.156) along,
   across and vertical to the rays; calibrated per axis against the truth cad's is (0.00, 2.82, 0.00),
-  design §1.7); not on ETH/UCY's scenes with mpl's model (κ_n's medians 0.62–0.73, within [0.5, 2]
-  since the z disagreements no longer pull κ_n down), nor on other frame rates, a distant origin,
-  turned scenes or cad's longer scenes. Its suggestions land at the proxies' truth: at 3× σ (0.102,
-  0.064) m and α 1.62 along and across the rays, where 3× the calibration is (0.102, 0.064) m and
-  1.47; at 5× (0.179, 0.113) m and 2.64 against (0.169, 0.107) m and 2.45.
+  design §1.7); and on four of ETH/UCY's five scenes with mpl's model (κ's medians 0.40–0.45, the
+  offsets of ETH/UCY's simulated cameras smaller than PETS 2009's, and without the rotation and
+  height errors that mpl's shape holds); not on other frame rates, a distant origin, turned scenes or
+  cad's longer scenes. Its suggestions land near the proxies' truth: at 3× σ (0.081, 0.064) m, α
+  (1.08, 2.41) along and across the rays and a range scale of 0.029, where 3× the calibration is
+  (0.074, 0.058) m, (0.97, 2.17) and 0.026; at 5× (0.144, 0.115) m, (1.92, 4.30) and 0.052 against
+  (0.123, 0.097) m, (1.62, 3.62) and 0.044.
 - **The world frame's heading.** Turned by 90° about the vertical, the mpl test split loses
-  0.5 % (0.0395 against 0.0393), the cad one gains 0.3 % (0.3258 against 0.3268), though 83 % of cad's
+  nothing (0.0386 against 0.0386), the cad one gains 0.3 % (0.3258 against 0.3268), though 83 % of cad's
   training motion runs along +x. The registration's offset in noise units reaches each measurement
   through R's Cholesky factor along its own ray (design §1.1, §1.7), which turns with the world
   frame; with the factor in the world's axes the turned splits lost 1.8 % and 2.5 %, and a `--rotate`

@@ -38,20 +38,26 @@ for b in mpl cad; do
   sed -i 's/,ours$/,ours (no truth)/' "$out/ours-no-truth.csv"
   build/stgf run --method ours --model "$models/$b.pt" --measurements "$m" --out "$out/ours-truth.csv" 2>/dev/null
   sed -i 's/,ours$/,ours (truth)/' "$out/ours-truth.csv"
-  # The truth-trained model with the registration prior the measurements gave (from the training log).
-  prior=$(sed -n 's/.*translation sigma (\([^,]*\), \([^,]*\), \([^)]*\)) m, noise ratio \(.*\)/\1 \2 \3 \4/p' "$out/$b-train.log")
-  read -r sx sy sz alpha <<< "$prior"
-  printf 'ours:\n  registration_translation_sigma_m: [%s, %s, %s]\n  registration_noise_ratio: %s\n' \
-    "$sx" "$sy" "$sz" "$alpha" > "$out/$b-prior.yaml"
+  # The truth-trained model with the registration prior the measurements gave (from the training log:
+  # σ, α as one number or along, across and vertical to the rays, and the range scale's σ if any).
+  calibration=$(grep "registration error on the validation split" "$out/$b-train.log")
+  sigma=$(sed 's/.*translation sigma (\([^)]*\)) m.*/\1/' <<< "$calibration")
+  alpha=$(sed -e 's/.*vertical to the rays (\([^)]*\)).*/[\1]/' -e 's/.*noise ratio \([0-9.e+-]*\)$/\1/' <<< "$calibration")
+  range_scale=$(sed -n 's/.*registration range scale sigma \(.*\)/\1/p' "$out/$b-train.log")
+  {
+    printf 'ours:\n  registration_translation_sigma_m: [%s]\n  registration_noise_ratio: %s\n' "$sigma" "$alpha"
+    printf '  registration_range_scale_sigma: %s\n' "${range_scale:-0}"
+  } > "$out/$b-prior.yaml"
   build/stgf run --method ours --model "$models/$b.pt" --config "$out/$b-prior.yaml" --measurements "$m" \
     --out "$out/ours-truth-prior.csv" 2>/dev/null
   sed -i 's/,ours$/,ours (truth; prior without truth)/' "$out/ours-truth-prior.csv"
   # ... and the model trained without truth with the prior the truth gave (from the model file).
   registration=$(grep -a -o '"registration":{[^}]*}' "$models/$b.pt" | head -1)
-  alpha=$(sed 's/.*"noise_ratio":\([^,}]*\).*/\1/' <<< "$registration")
+  alpha=$(sed 's/.*"noise_ratio":\(\[[^]]*\]\|[^,}]*\).*/\1/' <<< "$registration")
   sigma=$(sed 's/.*"translation_sigma_m":\[\([^]]*\)\].*/\1/' <<< "$registration")
-  printf 'ours:\n  registration_translation_sigma_m: [%s]\n  registration_noise_ratio: %s\n' "$sigma" "$alpha" \
-    > "$out/$b-truth-prior.yaml"
+  range_scale=$(sed -n 's/.*"range_scale_sigma":\([^,}]*\).*/\1/p' <<< "$registration")
+  printf 'ours:\n  registration_translation_sigma_m: [%s]\n  registration_noise_ratio: %s\n  registration_range_scale_sigma: %s\n' \
+    "$sigma" "$alpha" "${range_scale:-0}" > "$out/$b-truth-prior.yaml"
   build/stgf run --method ours --model "$out/$b.pt" --config "$out/$b-truth-prior.yaml" --measurements "$m" \
     --out "$out/ours-no-truth-prior.csv" 2>/dev/null
   sed -i 's/,ours$/,ours (no truth; prior from the truth)/' "$out/ours-no-truth-prior.csv"
