@@ -133,7 +133,7 @@ class JointRegistration {
   bool adapt_prior_scale();
   RegistrationPriorScales prior_scales() const { return prior_scale_.scales(); }
   // The prior probability that the scales' two-scale hypothesis holds (RegistrationPriorScale::
-  // set_two_scales_probability); before any view and start_prior_scale_from.
+  // set_two_scales_probability), from the next estimate on.
   void set_prior_scale_two_scales_probability(double probability) { prior_scale_.set_two_scales_probability(probability); }
   // The scales' start from other scenes' evidence (RegistrationPriorScale::start_from); before any view.
   void start_prior_scale_from(std::shared_ptr<const std::vector<double>> pooled) {

@@ -225,7 +225,6 @@ void RegistrationPriorScale::set_two_scales_probability(double probability) {
   if (!(probability > 0.0 && probability < 1.0)) {
     throw std::invalid_argument("RegistrationPriorScale::set_two_scales_probability: a probability in (0, 1)");
   }
-  if (estimated()) throw std::logic_error("RegistrationPriorScale::set_two_scales_probability: after an estimate");
   two_scales_log_odds_ = std::log(probability / (1.0 - probability));
 }
 

@@ -184,8 +184,8 @@ class RegistrationPriorScale {
   bool has_enough_evidence() const { return dimensions_ >= kEnoughEvidenceDimensions; }
 
   // The two-scale hypothesis's prior probability, in (0, 1): kTwoScalesAnySensors unless the scene's
-  // sensors are of the kind the prior was calibrated on (kTwoScalesOnCalibratedSensors). Before any
-  // estimate (and start_from).
+  // sensors are of the kind the prior was calibrated on (kTwoScalesOnCalibratedSensors). It counts from
+  // the next estimate on (start_from makes one).
   static constexpr double kTwoScalesAnySensors = 0.5;
   static constexpr double kTwoScalesOnCalibratedSensors = 0.01;
   void set_two_scales_probability(double probability);

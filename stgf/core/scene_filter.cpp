@@ -123,9 +123,22 @@ SceneFilter::SceneFilter(const MotionPredictor& predictor, const FilterOptions& 
   if (!std::isfinite(options.lag_window) || options.lag_window < 0.0) {
     throw std::invalid_argument("the lag window must be finite and >= 0 seconds");
   }
-  state_.joint.set_prior_scale_two_scales_probability(options_.registration_two_scales_probability);
+  state_.joint.set_prior_scale_two_scales_probability(registration_two_scales_probability());
   if (options_.registration_scale_start) state_.joint.start_prior_scale_from(options_.registration_scale_start);
   if (options_.lag_window > 0.0) checkpoints_.push_back({-std::numeric_limits<double>::infinity(), state_});
+}
+
+double SceneFilter::registration_two_scales_probability() const {
+  const SensorMotion sensors = options_.sensors.value_or(sensor_motion_.motion());
+  return options_.registration.calibrated_sensors == sensors ? RegistrationPriorScale::kTwoScalesOnCalibratedSensors
+                                                             : RegistrationPriorScale::kTwoScalesAnySensors;
+}
+
+void SceneFilter::adapt_registration_prior_scale() {
+  // Set each time: a rewind restores the registration as it was, and the sensors may have been found
+  // moving since.
+  state_.joint.set_prior_scale_two_scales_probability(registration_two_scales_probability());
+  state_.joint.adapt_prior_scale();
 }
 
 SceneFilter::TrackKey SceneFilter::key_of(const Measurement& measurement) const {
@@ -152,6 +165,9 @@ void SceneFilter::receive(std::span<const Measurement* const> measurements, std:
                                              " s: later than the lag window of " + seconds(options_.lag_window) +
                                              " s allows");
     }
+  }
+  if (!options_.sensors) {
+    for (const Measurement* measurement : measurements) sensor_motion_.see(*measurement);
   }
   // The rest by time into events (rows within kSameStepTolerance of an event's earliest time join it).
   std::vector<std::size_t> order;
@@ -394,7 +410,7 @@ void SceneFilter::close_frames(double time) {
     }
     track.close_frame(predictor_);
   }
-  if (compared) state_.joint.adapt_prior_scale();
+  if (compared) adapt_registration_prior_scale();
 }
 
 OffsetVector SceneFilter::registration_offset(std::string_view view) const {
@@ -660,7 +676,7 @@ void SceneFilter::process_joint(Event& event) {
       track.count_gated_event();
     }
   }
-  if (options_.adapt_registration_prior) state_.joint.adapt_prior_scale();
+  if (options_.adapt_registration_prior) adapt_registration_prior_scale();
   std::vector<std::string_view> objects;
   objects.reserve(checked.size());
   for (const Checked& object : checked) objects.push_back(event.rows[object.first].measurement.object);

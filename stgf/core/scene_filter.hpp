@@ -101,6 +101,7 @@
 #include "stgf/core/process_noise_pool.hpp"
 #include "stgf/core/process_noise_scale.hpp"
 #include "stgf/core/records.hpp"
+#include "stgf/core/sensor_motion.hpp"
 #include "stgf/core/view_noise_scales.hpp"
 #include "stgf/core/view_registration.hpp"
 
@@ -118,9 +119,11 @@ struct FilterOptions {
   // kPerObject: learn the registration prior's scales κ_t, κ_n from the views' disagreements
   // (registration_prior_scale.hpp; false: κ = 1, the prior as given)
   bool adapt_registration_prior = true;
-  // The prior probability of the scales' two-scale hypothesis (registration_prior_scale.hpp): lower where
-  // the scene's sensors are of the kind the prior was calibrated on (filter_runner.cpp).
-  double registration_two_scales_probability = RegistrationPriorScale::kTwoScalesAnySensors;
+  // Whether the scene's sensors stand still or move, where known beforehand (filter_runner.cpp: from
+  // all its rows); unset, from its rows so far (SensorMotionWatch: standing still until one has moved).
+  // Where they are of the kind the registration prior was calibrated on, its shape is expected to hold
+  // (the two-scale hypothesis a priori unlikely: registration_prior_scale.hpp).
+  std::optional<SensorMotion> sensors;
   // What other scenes' disagreements said of the registration prior's scales: this scene's start, and
   // part of every estimate it makes of them (registration_scale_pool.hpp; none: its prior alone).
   std::shared_ptr<const std::vector<double>> registration_scale_start;
@@ -337,8 +340,14 @@ class SceneFilter {
     std::vector<double> noise_scales;
     std::vector<Matrix3d> covariances;
   };
+  // The registration scales' two-scale hypothesis's prior probability for the scene's sensors (FilterOptions::sensors).
+  double registration_two_scales_probability() const;
+  // Learns the registration prior's scales from the disagreements gathered (JointRegistration::adapt_prior_scale).
+  void adapt_registration_prior_scale();
+
   AlignedFrame aligned_;
   std::vector<Result> results_;
+  SensorMotionWatch sensor_motion_;  // the scene's sensors as its rows so far show (options_.sensors unset)
   std::size_t late_measurements_ = 0;
   std::size_t rewinds_ = 0;
   std::size_t late_rows_ = 0;

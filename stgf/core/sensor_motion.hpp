@@ -18,7 +18,10 @@
 // a parked vehicle, does not). Rows without a sensor position count as fixed.
 
 #include <cstddef>
+#include <functional>
+#include <map>
 #include <span>
+#include <string>
 
 #include "stgf/core/records.hpp"
 #include "stgf/core/steps.hpp"
@@ -31,6 +34,18 @@ inline constexpr double kMovingSensorDistance = 0.5;  // m
 
 // Of a scene of `measurements` (its rows: Scene::steps).
 SensorMotion sensor_motion(std::span<const Measurement> measurements, const Scene& scene);
+
+// The same rule row by row, for a scene whose rows are not all known yet (a streaming filter): fixed
+// until some view's sensor has been seen more than kMovingSensorDistance from where it was first seen.
+class SensorMotionWatch {
+ public:
+  void see(const Measurement& measurement);
+  SensorMotion motion() const { return motion_; }
+
+ private:
+  std::map<std::string, Vector3d, std::less<>> first_position_;  // of each view that gave one
+  SensorMotion motion_ = SensorMotion::kFixed;
+};
 
 // One T for scenes of fixed sensors and one for scenes whose sensors move.
 template <class T>

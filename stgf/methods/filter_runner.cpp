@@ -210,11 +210,7 @@ FilterRun run_spatiotemporal_graph_filter(const MotionPredictor& predictor, cons
     const SensorMotion kind = sensors[first];
     PooledScales pooled{pools.registration[kind], pools.process_noise, kind, global, std::nullopt};
     FilterOptions block_options = scene_options;
-    // Sensors of the kind the prior was calibrated on: its shape is expected to hold
-    // (registration_prior_scale.hpp).
-    if (options.registration.calibrated_sensors == kind) {
-      block_options.registration_two_scales_probability = RegistrationPriorScale::kTwoScalesOnCalibratedSensors;
-    }
+    block_options.sensors = kind;  // known from all the scene's rows (a streaming filter learns it as rows come)
     if (pooling) {
       // A block within one epoch of the pools: its scenes share their start.
       count = std::min(count, scene_epoch_end(global) - global);

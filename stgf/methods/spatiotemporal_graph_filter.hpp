@@ -15,6 +15,10 @@
 //   - It returns one estimate per measurement, in the given order: what the filter knows of the
 //     measurement's object at the measurement's time once it is fused (kPerObject: the object's one
 //     fused track; kPerView: the track of the measurement's view).
+//   - Whether the scene's sensors stand still or move is taken from the measurements so far (standing
+//     still until a view's sensor position has moved 0.5 m: sensor_motion.hpp), unless options.sensors
+//     says; the registration prior's shape is expected to hold on sensors of the kind it was
+//     calibrated on (registration_prior_scale.hpp). stgf run knows each scene's from all its rows.
 //   - Times are seconds on one clock shared by the views (stamp each message with its measurement
 //     time, not its arrival time); they need not be regular.
 //   - Bad input throws std::invalid_argument and changes nothing: a non-finite time, a (view, object)

@@ -40,6 +40,22 @@ TEST(SensorMotion, RowsWithoutASensorPositionCountAsFixed) {
             SensorMotion::kFixed);
 }
 
+// Row by row (a streaming filter's scene): fixed until a view has moved, moving from then on.
+TEST(SensorMotion, TheWatchSeesTheSceneMoveWhenAViewHasMoved) {
+  const double d = kMovingSensorDistance;
+  SensorMotionWatch watch;
+  EXPECT_EQ(watch.motion(), SensorMotion::kFixed);
+  watch.see(row(0.0, "a", Vector3d(0, 0, 0)));
+  watch.see(row(0.0, "b", Vector3d(9, 9, 0)));
+  watch.see(row(0.1, "a", std::nullopt));
+  watch.see(row(0.1, "a", Vector3d(0.9 * d, 0, 0)));
+  EXPECT_EQ(watch.motion(), SensorMotion::kFixed);
+  watch.see(row(0.2, "b", Vector3d(9, 9 + 1.1 * d, 0)));
+  EXPECT_EQ(watch.motion(), SensorMotion::kMoving);
+  watch.see(row(0.3, "b", Vector3d(9, 9, 0)));  // back where it was: the scene's sensors have moved all the same
+  EXPECT_EQ(watch.motion(), SensorMotion::kMoving);
+}
+
 TEST(SensorMotion, PerSensorMotionHoldsOneOfEach) {
   PerSensorMotion<int> counts;
   ++counts[SensorMotion::kMoving];
