@@ -9,13 +9,13 @@
 namespace stgf {
 
 RegistrationPriorScales RegistrationScalePool::Point::scales() const {
-  const double translation = std::exp2(0.25 * scale - 10.0);
+  const auto on_grid = [](int index) { return std::exp2(0.25 * index - 10.0); };  // κ_t's grid
   RegistrationPriorScales scales;
-  scales.translation = translation;
-  scales.noise_ratio = translation * std::exp2(ratio - kUnitRatio);
-  scales.along = std::exp2(0.25 * axes[0] - 10.0);
-  scales.across = std::exp2(0.25 * axes[1] - 10.0);
-  scales.vertical = std::exp2(0.25 * axes[2] - 10.0);
+  scales.translation = on_grid(scale);
+  scales.noise_ratio = scales.translation * std::exp2(ratio - kUnitRatio);
+  scales.along = on_grid(axes[0]);
+  scales.across = on_grid(axes[1]);
+  scales.vertical = on_grid(axes[2]);
   return scales;
 }
 
