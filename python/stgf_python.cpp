@@ -221,7 +221,9 @@ class Filter {
   std::size_t restarted_tracks() const { return filter_->restarted_tracks(); }
   // Which motion the tracks follow (design §1.13): "model" or "constant-velocity".
   std::string motion() const { return filter_->motion_choice().constant_velocity() ? "constant-velocity" : "model"; }
-  // Per view: what the χ² gate checked and left out, and its noise scale (design §1.12).
+  // Per view: what the χ² gate checked and left out, its noise scale, and its measurements the other
+  // views outvoted (fused with their noise scaled up: cross_view_weights, on without the gate too;
+  // design §1.12).
   py::dict gating() const {
     py::dict views;
     for (const auto& [view, report] : filter_->view_noise_scales().reports()) {
@@ -230,6 +232,7 @@ class Filter {
       entry["gated"] = report.gated;
       entry["largest_noise_scale"] = report.largest_scale;
       entry["offset_releases"] = report.offset_releases;
+      entry["down_weighted"] = report.down_weighted;
       views[py::str(view)] = entry;
     }
     return views;

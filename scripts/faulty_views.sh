@@ -1,11 +1,11 @@
 #!/usr/bin/env bash
 # SPDX-License-Identifier: Apache-2.0
-# Regenerates docs/faulty-views.md: the full-size mpl and cad test splits (and cad's validation split) of scripts/results.sh with
+# Regenerates docs/faulty-views.md: the full-size mpl and cad test splits (and their validation splits) of scripts/results.sh with
 # one view made faulty by `stgf inject-fault` (seed 1) — (a) a 1 m calibration jump in the middle of
 # each scene, (b) its covariance understated 100×, (c) 2 % gross outliers of 5–20 m — and wls, mmt
 # and ours (the models of scripts/results.sh) on each, scored against the clean truth from step 2 on.
-# Every method runs without (the default) and with its gate (config/methods.yaml: gate). Run
-# scripts/results.sh first.
+# Every method runs without (the default) and with its gate (config/methods.yaml: gate), and ours
+# also without its cross-view weights (cross_view_weights: false). Run scripts/results.sh first.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 models=build/reproduce/models
@@ -14,13 +14,14 @@ benchmarks=build/reproduce/benchmarks
 out=${STGF_FAULTS_OUT:-build/faulty-views}
 mkdir -p "$out"
 printf 'wls:\n  gate: true\nmmt:\n  gate: true\nours:\n  gate: true\n' > "$out/gated.yaml"
+printf 'ours:\n  cross_view_weights: false\n' > "$out/unweighted.yaml"
 
 # The faulty view: mpl's view1 (the first in name order, so it starts the tracks of what it sees),
 # cad's v3 (a vehicle whose objects the others also see; v0, the ego vehicle, sees 46 % of the rows
 # and many objects alone, where no method can tell a fault from the truth).
 # And, as a proxy for a view the gate cannot judge, cad's validation split with v1 made faulty: a
 # vehicle that sees 36 % of that split's rows, many objects alone.
-cases=("mpl test view1" "cad test v3" "cad val v1")
+cases=("mpl test view1" "mpl val view1" "cad test v3" "cad val v1")
 faults=(clean jump understated-noise outliers)
 
 de_nees() {  # estimates CSV, truth, measurements → "DE|NEES"
@@ -34,7 +35,9 @@ de_nees() {  # estimates CSV, truth, measurements → "DE|NEES"
   echo "Produced by \`scripts/faulty_views.sh\` (seed 1) with the models and benchmark splits of \`scripts/results.sh\`."
   echo "One view of each split is made faulty by \`stgf inject-fault\`; every method is scored against the"
   echo "clean truth from step 2 on. DE in metres; NEES is 3 for an honest covariance. \`(gated)\`: the method"
-  echo "with \`gate: true\` (off by default; design §1.12)."
+  echo "with \`gate: true\` (off by default; design §1.12). \`ours (no cross-view weights)\`: \`ours\` with"
+  echo "\`cross_view_weights: false\` (on by default: a measurement that three or more views of its object at"
+  echo "its time place far off is fused with its noise scaled up; design §1.12)."
 } > "$out/faulty-views.md"
 
 for case in "${cases[@]}"; do
@@ -55,9 +58,10 @@ for case in "${cases[@]}"; do
     else
       build/stgf -q inject-fault --measurements "$folder/measurements.csv" --view "$view" --kind "$fault" --seed 1 --out "$m"
     fi
-    for method in wls mmt ours wls-gated mmt-gated ours-gated; do
+    for method in wls mmt ours wls-gated mmt-gated ours-gated ours-unweighted; do
       case $method in
         wls|mmt) build/stgf -q run --method "$method" --measurements "$m" --out "$out/estimates.csv" ;;
+        ours-unweighted) build/stgf -q run --method ours --model "$models/$benchmark.pt" --config "$out/unweighted.yaml" --measurements "$m" --out "$out/estimates.csv" ;;
         ours) build/stgf -q run --method ours --model "$models/$benchmark.pt" --measurements "$m" --out "$out/estimates.csv" ;;
         ours-gated) build/stgf -q run --method ours --model "$models/$benchmark.pt" --config "$out/gated.yaml" --measurements "$m" --out "$out/estimates.csv" ;;
         *-gated) build/stgf -q run --method "${method%-gated}" --config "$out/gated.yaml" --measurements "$m" --out "$out/estimates.csv" ;;
@@ -65,8 +69,9 @@ for case in "${cases[@]}"; do
       cells[$method,$fault]=$(de_nees "$out/estimates.csv" "$folder/truth.csv" "$m")
     done
   done
-  for method in wls wls-gated mmt mmt-gated ours ours-gated; do
+  for method in wls wls-gated mmt mmt-gated ours ours-gated ours-unweighted; do
     row="| ${method/-gated/ (gated)}"
+    row=${row/-unweighted/ (no cross-view weights)}
     for fault in "${faults[@]}"; do row+="|${cells[$method,$fault]}"; done
     echo "$row|" >> "$out/faulty-views.md"
   done

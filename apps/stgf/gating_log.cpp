@@ -6,6 +6,8 @@
 
 #include <spdlog/spdlog.h>
 
+#include "stgf/core/cross_view_weights.hpp"
+
 namespace stgf::cli {
 namespace {
 
@@ -24,14 +26,21 @@ std::string by_view(const std::map<std::string, std::size_t>& counts) {
 }  // namespace
 
 void log_gating(const std::string& method, const GateOptions& gate, const GatingSummary& summary) {
-  if (!gate.enabled) return;
-  const MeasurementGate measurement_gate(gate);
   std::map<std::string, std::size_t> gated;
   std::map<std::string, std::size_t> scaled;
+  std::map<std::string, std::size_t> down_weighted;
   for (const GatingSummary::View& view : summary.views) {
     gated[view.view] += view.report.gated;
+    down_weighted[view.view] += view.report.down_weighted;
     if (!std::isnan(view.report.first_flagged_time)) ++scaled[view.view];
   }
+  if (summary.down_weighted > 0) {
+    spdlog::info("{}: {} measurement(s) lay far from the other views' measurements of their object at their time "
+                 "(d² > {:.2f}) and were fused with their noise scaled up to that distance; by view: {}",
+                 method, summary.down_weighted, CrossViewWeights::threshold(), by_view(down_weighted));
+  }
+  if (!gate.enabled) return;
+  const MeasurementGate measurement_gate(gate);
   if (summary.gated > 0) {
     spdlog::info("{}: {} of {} measurements checked ({:.3f} %) failed the χ² gate at {} (d² > {:.2f}) and were not "
                  "fused; by view: {}",

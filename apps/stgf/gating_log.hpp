@@ -2,7 +2,8 @@
 #pragma once
 // What the χ² gate did in a run, said in the log: how many measurements failed it (by view), which
 // views of which scenes had their noise scaled for disagreeing with the rest, and the tracks it
-// restarted. Nothing the gate does goes unreported.
+// restarted; and the measurements that the other views placed far off and that were fused with their
+// noise scaled up (cross_view_weights.hpp, gate or not). Nothing the gate does goes unreported.
 
 #include <string>
 

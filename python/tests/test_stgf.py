@@ -88,6 +88,21 @@ class TestFilter(unittest.TestCase):
         self.assertGreaterEqual(gating["b"]["checked"], 1)
         self.assertEqual(f.refilters, 0)  # one gross error is no faulty view: nothing to go back for
 
+    def test_the_other_views_outvote_a_gross_error_and_say_so(self):
+        # With offsets estimated (a registration prior given) and no gate: three views at one time, one
+        # 10 m off, is fused with its noise scaled up (design §1.12) and counted.
+        with tempfile.TemporaryDirectory() as folder:
+            config = os.path.join(folder, "offsets.yaml")
+            with open(config, "w") as file:
+                file.write("ours:\n  registration_translation_sigma_m: 0.1\n  registration_noise_ratio: 0.5\n")
+            f = stgf.Filter(config=config)
+        good = np.array([1.0, 2.0, 0.0])
+        z = np.stack([good, good + [10.0, 0.0, 0.0], good + [0.02, 0.0, 0.0]])
+        out = f.fuse([0.0] * 3, ["a", "b", "c"], "o", z, np.stack([0.01 * np.eye(3)] * 3))
+        self.assertLess(np.abs(out["mean"][0] - good).max(), 0.3)
+        self.assertEqual(f.gating["b"]["down_weighted"], 1)
+        self.assertNotIn("a", f.gating)
+
     def test_motion_fallback_is_reported(self):
         # Without a model the filter's motion model is constant velocity already: nothing to switch to.
         # With `motion_fallback: always` the filter says it follows constant velocity.

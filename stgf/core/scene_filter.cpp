@@ -8,6 +8,7 @@
 #include <sstream>
 #include <string_view>
 
+#include "stgf/core/cross_view_weights.hpp"
 #include "stgf/core/multi_view_update.hpp"
 #include "stgf/core/name_index.hpp"
 
@@ -417,6 +418,31 @@ OffsetVector SceneFilter::registration_offset(std::string_view view) const {
   return joint() ? state_.joint.offset(view) : state_.registration.offset(view);
 }
 
+std::vector<double> SceneFilter::cross_view_scales(std::span<const Row> rows, const MeasurementGate::Decision& decision) {
+  std::vector<double> scales(rows.size(), 1.0);
+  if (!options_.cross_view_weights || decision.conflicting) return scales;
+  std::vector<std::size_t> judged;
+  for (std::size_t k = 0; k < rows.size(); ++k) {
+    if (decision.passes[k]) judged.push_back(k);
+  }
+  if (judged.size() < 3) return scales;
+  std::vector<CrossViewWeights::Measurement> measurements;
+  measurements.reserve(judged.size());
+  for (const std::size_t k : judged) {
+    const Measurement& measurement = rows[k].measurement;
+    const double view_scale = noise_scale(measurement.view);
+    const Gaussian3 corrected = state_.joint.corrected(measurement, view_scale);
+    const Matrix3d noise = view_scale * measurement.position.covariance();
+    measurements.push_back({corrected.mean(), noise, corrected.covariance() - noise});
+  }
+  const std::vector<double> judged_scales = CrossViewWeights::noise_scales(measurements);
+  for (std::size_t i = 0; i < judged.size(); ++i) {
+    scales[judged[i]] = judged_scales[i];
+    if (judged_scales[i] > 1.0) state_.view_noise.count_down_weighted(rows[judged[i]].measurement.view);
+  }
+  return scales;
+}
+
 void SceneFilter::learn_view_noise(std::span<const Row> rows, const std::vector<Gaussian3>& alone,
                                    const std::vector<bool>& passes, double time) {
   if (!gate_.enabled() || rows.size() < 2) return;
@@ -552,6 +578,7 @@ void SceneFilter::process_joint(Event& event) {
     std::optional<TrackPrediction> prediction;
     MeasurementGate::Decision decision;
     Matrix3d conflict_spread;  // with decision.conflicting
+    std::vector<double> noise_scales;  // of its rows (cross_view_scales, times the views' μ)
   };
   std::vector<Checked> checked;
   checked.reserve(event.tracks.size());
@@ -606,6 +633,9 @@ void SceneFilter::process_joint(Event& event) {
     // Measurements that conflict say that one of them is wrong, not which: nothing is learnt of the
     // views from them.
     if (!decision.conflicting) learn_view_noise(rows, alone, decision.passes, time);
+    // Each row's noise scale: its view's μ, and where the other views place it far off, more.
+    std::vector<double> scales = cross_view_scales(rows, decision);
+    for (std::size_t k = 0; k < rows.size(); ++k) scales[k] *= noise_scale(rows[k].measurement.view);
     if (decision.restart) {
       // Every measurement disagrees with the prediction: the track is what is wrong.
       track.clear();
@@ -621,7 +651,7 @@ void SceneFilter::process_joint(Event& event) {
       for (std::size_t k = 0; k < rows.size(); ++k) {
         if (!decision.passes[k] || (decision.conflicting && !passed.empty())) continue;
         passed.push_back(&rows[k].measurement);
-        passed_scales.push_back(noise_scale(rows[k].measurement.view));
+        passed_scales.push_back(scales[k]);
       }
       if (!passed.empty()) {
         const JointRegistration::Innovation innovation = state_.joint.innovation(passed, passed_scales);
@@ -630,7 +660,7 @@ void SceneFilter::process_joint(Event& event) {
       }
     }
     const Matrix3d spread = decision.conflicting ? conflict_spread(alone) : Matrix3d::Zero();
-    checked.push_back(Checked{first, end, &track, std::move(prediction), std::move(decision), spread});
+    checked.push_back(Checked{first, end, &track, std::move(prediction), std::move(decision), spread, std::move(scales)});
   }
   if (refilter_) return;  // going back: the whole event comes again
   std::vector<const Measurement*> fused;
@@ -645,12 +675,12 @@ void SceneFilter::process_joint(Event& event) {
       // A diffuse start from the anchor, then the measurements that agree with it.
       const Measurement& anchor = rows[decision.anchor].measurement;
       state_.joint.remove_object(anchor.object);
-      state_.joint.add_object(anchor, noise_scale(anchor.view));
+      state_.joint.add_object(anchor, object.noise_scales[decision.anchor]);
     }
     for (std::size_t k = 0; k < rows.size(); ++k) {
       if (!decision.passes[k] || (track.empty() && k == decision.anchor)) continue;
       fused.push_back(&rows[k].measurement);
-      fused_scales.push_back(noise_scale(rows[k].measurement.view));
+      fused_scales.push_back(object.noise_scales[k]);
     }
     state_.joint.update(fused, fused_scales);
     if (decision.conflicting) {
@@ -662,7 +692,7 @@ void SceneFilter::process_joint(Event& event) {
       if (track.empty()) {
         const Measurement& anchor = rows[decision.anchor].measurement;
         fused.insert(fused.begin(), &anchor);
-        fused_scales.insert(fused_scales.begin(), noise_scale(anchor.view));
+        fused_scales.insert(fused_scales.begin(), object.noise_scales[decision.anchor]);
       }
       if (fused.size() == 1) {
         track.frame_alignment().gather(*fused.front(), fused_scales.front());

@@ -139,6 +139,9 @@ struct FilterOptions {
   bool report_predictions = true;
   LatePolicy late = LatePolicy::kLeaveOut;  // what happens to one that comes later
   GateOptions gate;                         // the χ² gate and the views' noise scales (off)
+  // kPerObject with offsets: a measurement that three or more views of its object at its time place far
+  // off is fused with its noise scaled up (cross_view_weights.hpp; false: every one as its R states).
+  bool cross_view_weights = true;
 };
 
 // A view's noise scale at which the filter goes back over its lag window (design §1.12).
@@ -314,6 +317,8 @@ class SceneFilter {
   // Teaches the views' noise scales from one object's measurements at one time (`alone`: each
   // corrected for its view's offset, with its μ): each against the information-weighted mean of the
   // others that passed the gate — its disagreement with the other views, not with the track.
+  // Each row's CrossViewWeights noise scale among those the gate passed (1 for the rest), counted per view.
+  std::vector<double> cross_view_scales(std::span<const Row> rows, const MeasurementGate::Decision& decision);
   void learn_view_noise(std::span<const Row> rows, const std::vector<Gaussian3>& alone, const std::vector<bool>& passes,
                         double time);
   bool joint() const { return options_.tracks == TrackMode::kPerObject && state_.joint.active(); }

@@ -155,13 +155,17 @@ void GatingSummary::add(const std::string& scene, const ViewNoiseScales& scales)
   for (const auto& [view, report] : scales.reports()) {
     checked += report.checked;
     gated += report.gated;
-    if (report.gated > 0 || !std::isnan(report.first_flagged_time)) views.push_back(View{scene, view, report});
+    down_weighted += report.down_weighted;
+    if (report.gated > 0 || report.down_weighted > 0 || !std::isnan(report.first_flagged_time)) {
+      views.push_back(View{scene, view, report});
+    }
   }
 }
 
 void GatingSummary::add(const GatingSummary& later) {
   checked += later.checked;
   gated += later.gated;
+  down_weighted += later.down_weighted;
   restarts += later.restarts;
   refilters += later.refilters;
   views.insert(views.end(), later.views.begin(), later.views.end());

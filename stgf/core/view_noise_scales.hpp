@@ -88,6 +88,9 @@ class ViewNoiseScales {
   void presume(std::string_view view, double scale);
   // Counts a measurement of `view` checked by the gate, and whether it passed.
   void count(std::string_view view, bool passed);
+  // Counts a measurement of `view` fused with its noise scaled up by the other views' disagreement
+  // (cross_view_weights.hpp).
+  void count_down_weighted(std::string_view view) { ++view_of(view).report.down_weighted; }
 
   struct Report {
     double largest_scale = 1.0;
@@ -97,6 +100,7 @@ class ViewNoiseScales {
     std::size_t offset_releases = 0;  // times its offset was widened (separate_bias)
     std::size_t checked = 0;      // measurements checked by the gate
     std::size_t gated = 0;        // of which failed it
+    std::size_t down_weighted = 0;  // measurements the other views placed far off (cross_view_weights.hpp)
   };
   // Per view that has been added or counted, in name order.
   std::map<std::string, Report> reports() const;
@@ -148,13 +152,14 @@ struct GatingSummary {
   };
   std::size_t checked = 0;   // measurements checked by the gate (against a prediction or each other)
   std::size_t gated = 0;     // of which failed it
+  std::size_t down_weighted = 0;  // measurements fused with their noise scaled up by the other views
   std::size_t restarts = 0;  // tracks started again because every measurement failed the gate
   // times a scene's filter went back over its lag window: a view's noise found understated, or its
   // offset found shifted some events before (scene_filter.hpp)
   std::size_t refilters = 0;
   std::vector<View> views;
 
-  // Adds a scene's views (those with a gated measurement or found disagreeing).
+  // Adds a scene's views (those with a gated or down-weighted measurement or found disagreeing).
   void add(const std::string& scene, const ViewNoiseScales& scales);
   // Adds the summary of later scenes (a file run in parts): the counts, and its views after these.
   void add(const GatingSummary& later);

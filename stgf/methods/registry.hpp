@@ -34,6 +34,7 @@ struct OursSettings {
   std::optional<bool> process_noise_scale_across_scenes;
   MotionFallback motion_fallback = MotionFallback::kAuto;  // constant velocity where it predicts better
   bool adapt_registration_prior = true;       // scale the registration prior from the views' disagreements
+  bool cross_view_weights = true;  // down-weight a measurement the other views at its time place far off
   // Unset (auto): kAcrossScenes where the sensors move; where they stand still kShrinkAcrossScenes for
   // a model trained on several benchmarks, kPerScene for a model of one (registration_scale_learning_for).
   std::optional<RegistrationScaleLearning> registration_scale_learning;

@@ -35,6 +35,7 @@ FilterOptions filter_options_for(const OursSettings& settings, const nlohmann::j
   options.adapt_process_noise = settings.adapt_process_noise;
   options.motion_fallback = settings.motion_fallback;
   options.adapt_registration_prior = settings.adapt_registration_prior;
+  options.cross_view_weights = settings.cross_view_weights;
   options.tracks = settings.per_view_tracks ? TrackMode::kPerView : TrackMode::kPerObject;
   options.lag_window = settings.lag_window;
   options.late = settings.stop_on_late ? LatePolicy::kStop : LatePolicy::kLeaveOut;

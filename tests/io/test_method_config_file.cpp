@@ -191,6 +191,14 @@ TEST(MethodConfigFile, ShippedConfigHoldsTheDefaults) {
   EXPECT_EQ(shipped.ours.lag_window, defaults.ours.lag_window);
   EXPECT_EQ(shipped.ours.stop_on_late, defaults.ours.stop_on_late);
   EXPECT_EQ(shipped.ours.motion_fallback, defaults.ours.motion_fallback);
+  EXPECT_EQ(shipped.ours.cross_view_weights, defaults.ours.cross_view_weights);
+}
+
+// Down-weighting a measurement the other views place far off (core/cross_view_weights.hpp): on by default.
+TEST(MethodConfigFile, ReadsTheCrossViewWeights) {
+  EXPECT_TRUE(MethodConfig{}.ours.cross_view_weights);
+  EXPECT_FALSE(parse_method_config("c.yaml", "ours:\n  cross_view_weights: false\n").ours.cross_view_weights);
+  EXPECT_EQ(error_of("ours:\n  cross_view_weights: maybe\n"), "c.yaml:2: ours.cross_view_weights must be true or false");
 }
 
 // Tracks, the lag window and what happens to a message later than it.
