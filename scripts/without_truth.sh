@@ -104,7 +104,7 @@ cat >> "$doc" <<'NOTES'
   its range times the angle, across the line of sight. stgf's offset model (a translation, and an
   offset in units of the view's own noise, design §1.7) describes the heading part only roughly,
   and the two fits settle that approximation differently. That is where cad's difference comes
-  from: the truth-trained model with the prior from the disagreements gives 0.3378 m with NEES 3.19,
+  from: the truth-trained model with the prior from the disagreements gives 0.3379 m with NEES 3.19,
   and the model trained without truth, run with the truth's prior, 0.3252 m: Φ learnt from
   measurements predicts as well as Φ learnt from the truth, and the prior's α is what differs (with
   the run's evidence the along- and across-ray offsets are scaled apart, which α = 1.10 leaves room
