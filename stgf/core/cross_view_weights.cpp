@@ -35,8 +35,7 @@ Mean others_mean(std::span<const CrossViewWeights::Measurement> measurements, st
 
 // d²_k(s) = ν_kᵀ (s N_k + O_k + M₋ₖ)⁻¹ ν_k.
 double distance_squared_at(const CrossViewWeights::Measurement& measurement, const Mean& others, double scale) {
-  const Vector3d disagreement = measurement.corrected - others.mean;
-  return disagreement.dot((covariance_of(measurement, scale) + others.covariance).llt().solve(disagreement));
+  return distance_squared(measurement.corrected - others.mean, covariance_of(measurement, scale) + others.covariance);
 }
 
 // The smallest s ≥ 1 with d²(s) ≤ γ (d² falls as s grows), by bisection on log₂ s.

@@ -430,6 +430,7 @@ std::vector<double> SceneFilter::cross_view_scales(std::span<const Row> rows, co
   measurements.reserve(judged.size());
   for (const std::size_t k : judged) {
     const Measurement& measurement = rows[k].measurement;
+    // Corrected here, not taken from the gate's `alone`: learn_view_noise may have changed μ since.
     const double view_scale = noise_scale(measurement.view);
     const Gaussian3 corrected = state_.joint.corrected(measurement, view_scale);
     const Matrix3d noise = view_scale * measurement.position.covariance();

@@ -314,11 +314,11 @@ class SceneFilter {
   void schedule_release(const std::string& view, const ViewNoiseScales::Release& release, double time);
   // Applies the scheduled releases due by `time` that the state has not applied.
   void apply_scheduled_releases(double time);
+  // Each row's CrossViewWeights noise scale among those the gate passed (1 for the rest), counted per view.
+  std::vector<double> cross_view_scales(std::span<const Row> rows, const MeasurementGate::Decision& decision);
   // Teaches the views' noise scales from one object's measurements at one time (`alone`: each
   // corrected for its view's offset, with its μ): each against the information-weighted mean of the
   // others that passed the gate — its disagreement with the other views, not with the track.
-  // Each row's CrossViewWeights noise scale among those the gate passed (1 for the rest), counted per view.
-  std::vector<double> cross_view_scales(std::span<const Row> rows, const MeasurementGate::Decision& decision);
   void learn_view_noise(std::span<const Row> rows, const std::vector<Gaussian3>& alone, const std::vector<bool>& passes,
                         double time);
   bool joint() const { return options_.tracks == TrackMode::kPerObject && state_.joint.active(); }
