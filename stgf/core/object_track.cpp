@@ -16,6 +16,26 @@ Vector3d ObjectTrack::last_velocity() const {
   return (last.estimate.mean() - before.estimate.mean()) / (last.time - before.time);
 }
 
+Matrix3d ObjectTrack::velocity_variance(bool last_two) const {
+  // v̂ = Σ_i w_i p_i, w_i = (t_i − t̄) / Σ_j (t_j − t̄)², over the positions it reads; with their errors
+  // taken independent, Var(v̂) = Σ_i w_i² P_i.
+  const std::size_t n = history_.size();
+  if (n < 2) return Matrix3d::Zero();
+  const std::size_t first = last_two ? n - 2 : 0;
+  double mean_time = 0.0;
+  for (std::size_t i = first; i < n; ++i) mean_time += history_[i].time;
+  mean_time /= static_cast<double>(n - first);
+  double spread = 0.0;
+  for (std::size_t i = first; i < n; ++i) spread += (history_[i].time - mean_time) * (history_[i].time - mean_time);
+  Matrix3d variance = Matrix3d::Zero();
+  if (!(spread > 0.0)) return variance;
+  for (std::size_t i = first; i < n; ++i) {
+    const double weight = (history_[i].time - mean_time) / spread;
+    variance += weight * weight * history_[i].estimate.covariance();
+  }
+  return symmetrised(variance);
+}
+
 double ObjectTrack::unseen_limit(const MotionPredictor& predictor, double scene_frame_interval) const {
   const double horizon = predictor.coasting_horizon();
   if (!(horizon > predictor.prediction_horizon())) return horizon;  // no coasting Q to cross a frame with
@@ -32,7 +52,8 @@ Vector3d ObjectTrack::displacement_to(double time, bool constant_velocity) const
 }
 
 ObjectTrack::Motion ObjectTrack::motion_to(double time, const MotionPredictor& predictor,
-                                           const ProcessNoiseScale& scale, bool constant_velocity) const {
+                                           const ProcessNoiseScale& scale, bool constant_velocity,
+                                           bool velocity_error) const {
   if (empty()) throw std::logic_error("ObjectTrack::motion_to needs a track that is not empty");
   const bool coasting = coasts_to(time, predictor);
   if (needs_forecast() && !coasting) throw std::logic_error("ObjectTrack::motion_to needs the forecast of the track's history");
@@ -50,16 +71,22 @@ ObjectTrack::Motion ObjectTrack::motion_to(double time, const MotionPredictor& p
     const double speed = predictor.typical_speed();
     motion.covariance += speed * speed * (tau * tau - tau_state * tau_state) * Matrix3d::Identity();
   }
+  // The velocity the forecast reads from the history carries the history's errors on: τ² Var(v̂), of
+  // which the state holds the part up to τ_s.
+  motion.velocity_error = velocity_error ? Matrix3d((tau * tau - tau_state * tau_state) *
+                                                    velocity_variance(/*last_two=*/constant_velocity || coasting))
+                                         : Matrix3d::Zero();
+  motion.covariance += motion.velocity_error;
   motion.interval = tau - tau_state;
   return motion;
 }
 
 TrackPrediction ObjectTrack::predict(double time, const MotionPredictor& predictor, const ProcessNoiseScale& scale,
-                                     bool constant_velocity) const {
-  const Motion motion = motion_to(time, predictor, scale, constant_velocity);
+                                     bool constant_velocity, bool velocity_error) const {
+  const Motion motion = motion_to(time, predictor, scale, constant_velocity, velocity_error);
   const Gaussian3& state = state_->estimate;
   return {Gaussian3::from_covariance(state.mean() + motion.displacement, state.covariance() + motion.covariance),
-          state.covariance(), motion.process_noise, motion.interval, history_.size()};
+          state.covariance(), motion.process_noise, motion.velocity_error, motion.interval, history_.size()};
 }
 
 void ObjectTrack::update(double time, const Gaussian3& estimate) {

@@ -603,14 +603,15 @@ void SceneFilter::process_joint(Event& event) {
     bool coasting = false;
     if (!track.empty()) {
       coasting = track.coasts_to(time, predictor_);
-      motion = track.motion_to(time, predictor_, coasting ? coasting_scale : scale, constant_velocity);
+      motion = track.motion_to(time, predictor_, coasting ? coasting_scale : scale, constant_velocity,
+                               options_.history_velocity_error);
       if (options_.report_predictions) {
         // The predicted position: p_i + d, Σ_ii + Q (what position() gives after predict(), without
         // recomputing it). Not formed when nobody reads it: the marginal costs a substitution with M's factor.
         const Gaussian3 state = state_.joint.position(object);
         prediction = TrackPrediction{
             Gaussian3::from_covariance(state.mean() + motion->displacement, state.covariance() + motion->covariance),
-            state.covariance(), motion->process_noise, motion->interval, track.history().size()};
+            state.covariance(), motion->process_noise, motion->velocity_error, motion->interval, track.history().size()};
       }
       state_.joint.predict(object, motion->displacement, motion->covariance);
       if (options_.adapt_registration_prior && track.has_frame()) {
@@ -656,7 +657,9 @@ void SceneFilter::process_joint(Event& event) {
       }
       if (!passed.empty()) {
         const JointRegistration::Innovation innovation = state_.joint.innovation(passed, passed_scales);
-        learn_sample(coasting, constant_velocity, innovation.value, innovation.covariance - motion->covariance,
+        // λ scales Q alone: the history's velocity error is known, as the state's is.
+        learn_sample(coasting, constant_velocity, innovation.value,
+                     innovation.covariance - motion->covariance + motion->velocity_error,
                      motion->process_noise, motion->displacement - track.displacement_to(time, !constant_velocity));
       }
     }
@@ -854,7 +857,10 @@ void SceneFilter::process(Event& event) {
       ObjectTrack& track = state_.tracks[key_of(event.rows[first + t].measurement)];
       std::optional<TrackPrediction> prediction;
       const bool coasting = track.coasts_to(time, predictor_);
-      if (!track.empty()) prediction = track.predict(time, predictor_, coasting ? coasting_scale : scale, constant_velocity);
+      if (!track.empty()) {
+        prediction = track.predict(time, predictor_, coasting ? coasting_scale : scale, constant_velocity,
+                                   options_.history_velocity_error);
+      }
       if (!prediction && !combined) {
         // kPerView: this view's track is empty and every measurement failed the gate against another
         // view's track: nothing to start it from; the row gets that track's prediction.
@@ -871,7 +877,7 @@ void SceneFilter::process(Event& event) {
       if (opens_frame && prediction && combined && prediction->history_positions >= 2 && learns_from(coasting) &&
           !innovation) {
         innovation = Innovation{coasting, combined->mean() - prediction->prior.mean(),
-                                prediction->state_covariance + combined->covariance(), prediction->process_noise,
+                                prediction->state_covariance + prediction->velocity_error + combined->covariance(), prediction->process_noise,
                                 track.displacement_to(time, constant_velocity) - track.displacement_to(time, !constant_velocity)};
       }
       if (opens_frame) track.open_frame(time);

@@ -142,6 +142,9 @@ struct FilterOptions {
   // kPerObject with offsets: a measurement that three or more views of its object at its time place far
   // off is fused with its noise scaled up (cross_view_weights.hpp; false: every one as its R states).
   bool cross_view_weights = true;
+  // A forecast's covariance counts the error of the velocity it reads from the track's history
+  // (object_track.hpp, Var(v̂); false: Q alone, as Q's calibration sees it).
+  bool history_velocity_error = true;
 };
 
 // A view's noise scale at which the filter goes back over its lag window (design §1.12).

@@ -179,6 +179,12 @@ void read_ours(const std::string& path, const YAML::Node& node, OursSettings& se
       } catch (const YAML::Exception&) {
         throw InputError(path, line_of(entry.second), name + " must be true or false");
       }
+    } else if (key == "history_velocity_error") {
+      try {
+        settings.history_velocity_error = entry.second.as<bool>();
+      } catch (const YAML::Exception&) {
+        throw InputError(path, line_of(entry.second), name + " must be true or false");
+      }
     } else if (key == "registration_noise_ratio") {
       settings.noise_ratio = one_or_three_non_negative(path, name, entry.second, "along, across, vertical");
     } else if (key == "registration_prior_scale") {

@@ -36,6 +36,9 @@ std::vector<Residual> filter_residuals(const MotionModel& model, const Registrat
   options.adapt_registration_prior = false;  // the prior as calibrated on this split
   options.gate.enabled = false;  // Q is what the gate is measured with: calibrate it on every residual
   options.cross_view_weights = false;  // and with every measurement as its R states, as the split's are
+  // Q as the forecasts' whole error beyond the state's, as it was calibrated before the filter counted
+  // the history's velocity error apart (object_track.hpp: the calibration's histories are long, and hold little of it).
+  options.history_velocity_error = false;
   const FilterRun run = run_spatiotemporal_graph_filter(model, options, measurements, /*keep_predictions=*/true);
   // In the order of the rows (the scenes' order would do as well; this one is simpler to state).
   for (std::size_t row = 0; row < measurements.size(); ++row) {

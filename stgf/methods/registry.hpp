@@ -35,6 +35,7 @@ struct OursSettings {
   MotionFallback motion_fallback = MotionFallback::kAuto;  // constant velocity where it predicts better
   bool adapt_registration_prior = true;       // scale the registration prior from the views' disagreements
   bool cross_view_weights = true;  // down-weight a measurement the other views at its time place far off
+  bool history_velocity_error = true;  // a forecast's covariance counts its history's velocity error
   // Unset (auto): kAcrossScenes where the sensors move; where they stand still kShrinkAcrossScenes for
   // a model trained on several benchmarks, kPerScene for a model of one (registration_scale_learning_for).
   std::optional<RegistrationScaleLearning> registration_scale_learning;

@@ -36,6 +36,7 @@ FilterOptions filter_options_for(const OursSettings& settings, const nlohmann::j
   options.motion_fallback = settings.motion_fallback;
   options.adapt_registration_prior = settings.adapt_registration_prior;
   options.cross_view_weights = settings.cross_view_weights;
+  options.history_velocity_error = settings.history_velocity_error;
   options.tracks = settings.per_view_tracks ? TrackMode::kPerView : TrackMode::kPerObject;
   options.lag_window = settings.lag_window;
   options.late = settings.stop_on_late ? LatePolicy::kStop : LatePolicy::kLeaveOut;

@@ -31,14 +31,15 @@ TEST(ObjectTrack, MovesMeasurementsAlongTheForecastAndGrowsQByItsIncrement) {
   ASSERT_TRUE(track.needs_forecast());
   track.set_forecast(predictor.forecast(std::vector<MotionGraph>{
       {"s", "", 0.2, {{"o", {Vector3d(0, 0, 0), Vector3d(0.1, 0, 0)}, {0.0, 0.1}}}}})[0][0]);
-  // The prediction to 0.13 (τ = 0.03); an update there opens a frame.
-  const TrackPrediction first = track.predict(0.13, predictor, scale);
+  // The prediction to 0.13 (τ = 0.03); an update there opens a frame. Q alone (the history's velocity
+  // error: below).
+  const TrackPrediction first = track.predict(0.13, predictor, scale, /*constant_velocity=*/false, /*velocity_error=*/false);
   EXPECT_LT((first.prior.mean() - Vector3d(0.13, 0, 0)).norm(), 1e-12);
   EXPECT_LT((first.prior.covariance() - (p + 2.0 * 0.03 * 0.03 * Matrix3d::Identity())).norm(), 1e-15);
   track.open_frame(0.13);
   track.update(0.13, Gaussian3::from_covariance(Vector3d(0.135, 0, 0), p));
   // To 0.16: from the state at 0.13 (τ_s = 0.03) along the same forecast to τ = 0.06.
-  const TrackPrediction second = track.predict(0.16, predictor, scale);
+  const TrackPrediction second = track.predict(0.16, predictor, scale, false, false);
   EXPECT_LT((second.prior.mean() - Vector3d(0.135 + 0.03, 0, 0)).norm(), 1e-12);
   const double growth = 2.0 * (0.06 * 0.06 - 0.03 * 0.03);
   EXPECT_LT((second.prior.covariance() - (p + growth * Matrix3d::Identity())).norm(), 1e-15);
@@ -46,7 +47,7 @@ TEST(ObjectTrack, MovesMeasurementsAlongTheForecastAndGrowsQByItsIncrement) {
   // The increments telescope: Q(0.03) + [Q(0.06) − Q(0.03)] = Q(0.06), as one update at 0.16 would add.
   EXPECT_NEAR(first.process_noise(0, 0) + second.process_noise(0, 0), 2.0 * 0.06 * 0.06, 1e-15);
   // The motion alone, as the joint estimate of positions and offsets applies it.
-  const ObjectTrack::Motion motion = track.motion_to(0.16, predictor, scale);
+  const ObjectTrack::Motion motion = track.motion_to(0.16, predictor, scale, false, false);
   EXPECT_LT((motion.displacement - Vector3d(0.03, 0, 0)).norm(), 1e-12);
   EXPECT_LT((motion.covariance - growth * Matrix3d::Identity()).norm(), 1e-15);
   track.update(0.16, Gaussian3::from_covariance(Vector3d(0.166, 0, 0), p));
@@ -57,6 +58,53 @@ TEST(ObjectTrack, MovesMeasurementsAlongTheForecastAndGrowsQByItsIncrement) {
   EXPECT_EQ(track.history().back().time, 0.16);
   EXPECT_TRUE(track.needs_forecast());
   EXPECT_FALSE(track.has_frame());
+}
+
+class KeepsThreePositions final : public testing::ForwardingPredictor {
+ public:
+  KeepsThreePositions() : ForwardingPredictor(2.0, 1.0, 1.0) {}
+  int history_positions() const override { return 3; }
+};
+
+// The velocity a forecast reads from the history carries the positions' errors on (object_track.hpp):
+// (τ² − τ_s²) Var(v̂), with v̂ the least-squares slope of the positions, (P̂_1 + P̂_2) / Δt² for two.
+TEST(ObjectTrack, ForecastCountsTheErrorOfTheVelocityItReadsFromTheHistory) {
+  const ConstantVelocityPredictor predictor(/*q=*/2.0, /*speed=*/1.0);
+  const ProcessNoiseScale scale;
+  const Matrix3d p1 = Vector3d(0.01, 0.02, 0.03).asDiagonal(), p2 = Vector3d(0.04, 0.01, 0.02).asDiagonal();
+  ObjectTrack track;
+  add_history_position(track, 0.0, Vector3d(0, 0, 0), p1, predictor);
+  add_history_position(track, 0.1, Vector3d(0.1, 0, 0), p2, predictor);
+  EXPECT_LT((track.velocity_variance(/*last_two=*/false) - (p1 + p2) / 0.01).norm(), 1e-12);
+  track.set_forecast(predictor.forecast(std::vector<MotionGraph>{
+      {"s", "", 0.2, {{"o", {Vector3d(0, 0, 0), Vector3d(0.1, 0, 0)}, {0.0, 0.1}}}}})[0][0]);
+  const ObjectTrack::Motion motion = track.motion_to(0.15, predictor, scale);
+  const Matrix3d velocity_error = 0.05 * 0.05 * (p1 + p2) / 0.01;
+  EXPECT_LT((motion.velocity_error - velocity_error).norm(), 1e-12);
+  EXPECT_LT((motion.covariance - (2.0 * 0.05 * 0.05 * Matrix3d::Identity() + velocity_error)).norm(), 1e-12);
+  // The prediction carries it, and says which part it is (Q's scale is learnt without it).
+  const TrackPrediction prediction = track.predict(0.15, predictor, scale);
+  EXPECT_LT((prediction.prior.covariance() - (p2 + motion.covariance)).norm(), 1e-12);
+  EXPECT_LT((prediction.velocity_error - velocity_error).norm(), 1e-12);
+  // Between history positions it grows by its increment: from a state at 0.15, to 0.2.
+  track.open_frame(0.15);
+  track.update(0.15, Gaussian3::from_covariance(Vector3d(0.15, 0, 0), p2));
+  EXPECT_LT((track.motion_to(0.2, predictor, scale).velocity_error - (0.01 - 0.0025) * (p1 + p2) / 0.01).norm(), 1e-12);
+
+  // Three positions 0.1 s apart: w = (−5, 0, 5) per second, Var(v̂) = 25 (P̂_1 + P̂_3); the last two alone
+  // (constant velocity, coasting): (P̂_2 + P̂_3) / Δt².
+  ObjectTrack three;
+  const KeepsThreePositions keeps_three;
+  add_history_position(three, 0.0, Vector3d(0, 0, 0), p1, keeps_three);
+  add_history_position(three, 0.1, Vector3d(0.1, 0, 0), p2, keeps_three);
+  add_history_position(three, 0.2, Vector3d(0.2, 0, 0), p1, keeps_three);
+  ASSERT_EQ(three.history().size(), 3u);
+  EXPECT_LT((three.velocity_variance(false) - 25.0 * (p1 + p1)).norm(), 1e-12);
+  EXPECT_LT((three.velocity_variance(true) - (p2 + p1) / 0.01).norm(), 1e-12);
+  // One position or none: no velocity, no error of it (the unknown speed's spread stands for it).
+  ObjectTrack one;
+  add_history_position(one, 0.0, Vector3d(0, 0, 0), p1, predictor);
+  EXPECT_EQ(one.velocity_variance(false), Matrix3d::Zero());
 }
 
 TEST(ObjectTrack, CoastsAcrossOneMissedFrameAtItsOwnRateWhenThePredictorCoasts) {
