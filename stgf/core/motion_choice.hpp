@@ -9,9 +9,11 @@
 // Both predict from the same track state. For the innovation ν = z − x of the first fused
 // measurement of a frame (the sample the Q scale learns from, process_noise_scale.hpp), each model m
 // has its own prediction x_m and its own scale λ_m of Q:
-//     ν_m ~ N(0, A + D_m Q D_m),   A = P̂_last + R,  D_m = diag(√λ_m)
-// and scores its predictive log-likelihood, per axis as the Q scale models it,
-//     ℓ_m = Σ_a log N(ν_m,a; 0, A_aa + λ_m,a Q_aa),
+//     ν_m ~ N(0, A_m + D_m Q D_m),   A_m = P̂_last + R + (τ² − τ_s²) Var_m(v̂),  D_m = diag(√λ_m)
+// (Var_m(v̂): the error of the velocity each reads off the history, object_track.hpp — Φ's from the whole
+// history, constant velocity's from its last two positions, several times larger) and scores its
+// predictive log-likelihood, per axis as the Q scale models it,
+//     ℓ_m = Σ_a log N(ν_m,a; 0, A_m,aa + λ_m,a Q_aa),
 // with λ_m as learnt from the earlier samples (a prequential score: each model is judged on data it
 // had not yet seen). E = Σ (ℓ_cv − ℓ_Φ) over the scene is the log Bayes factor of constant velocity
 // against Φ. The scene follows constant velocity once E > kSwitchEvidence and goes back to Φ once
@@ -46,9 +48,10 @@ class MotionChoice {
   bool compares() const { return policy_ == MotionFallback::kAuto; }
 
 
-  // One sample: the innovation of both models' predictions (ν_Φ, ν_cv), A, and Q(τ) − Q(τ_s).
-  // `learned` is Φ's λ before this sample. With `adapt`, λ_cv learns from ν_cv.
-  void add(const Vector3d& learned_innovation, const Vector3d& fallback_innovation, const Matrix3d& known_covariance,
+  // One sample: the innovation of both models' predictions (ν_Φ, ν_cv), their A_Φ and A_cv, and
+  // Q(τ) − Q(τ_s). `learned` is Φ's λ before this sample. With `adapt`, λ_cv learns from ν_cv.
+  void add(const Vector3d& learned_innovation, const Vector3d& fallback_innovation,
+           const Matrix3d& learned_known_covariance, const Matrix3d& fallback_known_covariance,
            const Matrix3d& process_noise, const ProcessNoiseScale& learned, bool adapt);
   // kAlways: λ_cv learns from its innovation (there is no comparison).
   void learn_fallback(const Vector3d& innovation, const Matrix3d& known_covariance, const Matrix3d& process_noise) {

@@ -36,6 +36,14 @@ Matrix3d ObjectTrack::velocity_variance(bool last_two) const {
   return symmetrised(variance);
 }
 
+Matrix3d ObjectTrack::velocity_error_to(double time, bool last_two) const {
+  // The velocity the forecast reads from the history carries the history's errors on: τ² Var(v̂), of
+  // which the state holds the part up to τ_s.
+  const double origin = forecast_origin();
+  const double tau = time - origin, tau_state = state_->time - origin;
+  return (tau * tau - tau_state * tau_state) * velocity_variance(last_two);
+}
+
 double ObjectTrack::unseen_limit(const MotionPredictor& predictor, double scene_frame_interval) const {
   const double horizon = predictor.coasting_horizon();
   if (!(horizon > predictor.prediction_horizon())) return horizon;  // no coasting Q to cross a frame with
@@ -71,12 +79,7 @@ ObjectTrack::Motion ObjectTrack::motion_to(double time, const MotionPredictor& p
     const double speed = predictor.typical_speed();
     motion.covariance += speed * speed * (tau * tau - tau_state * tau_state) * Matrix3d::Identity();
   }
-  // The velocity the forecast reads from the history carries the history's errors on: τ² Var(v̂), of
-  // which the state holds the part up to τ_s.
-  motion.velocity_error = velocity_error ? Matrix3d((tau * tau - tau_state * tau_state) *
-                                                    velocity_variance(/*last_two=*/constant_velocity || coasting))
-                                         : Matrix3d::Zero();
-  motion.covariance += motion.velocity_error;
+  if (velocity_error) motion.covariance += velocity_error_to(time, /*last_two=*/constant_velocity || coasting);
   motion.interval = tau - tau_state;
   return motion;
 }
@@ -86,7 +89,7 @@ TrackPrediction ObjectTrack::predict(double time, const MotionPredictor& predict
   const Motion motion = motion_to(time, predictor, scale, constant_velocity, velocity_error);
   const Gaussian3& state = state_->estimate;
   return {Gaussian3::from_covariance(state.mean() + motion.displacement, state.covariance() + motion.covariance),
-          state.covariance(), motion.process_noise, motion.velocity_error, motion.interval, history_.size()};
+          state.covariance(), motion.process_noise, motion.interval, history_.size()};
 }
 
 void ObjectTrack::update(double time, const Gaussian3& estimate) {

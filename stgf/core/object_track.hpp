@@ -71,7 +71,6 @@ struct TrackPrediction {
   Gaussian3 prior;                 // N(x, P)
   Matrix3d state_covariance;       // P̂_s
   Matrix3d process_noise;          // Q(τ) − Q(τ_s), before the scale D (and without the speed term)
-  Matrix3d velocity_error;         // (τ² − τ_s²) Var(v̂): the history's errors in the velocity read from it
   double interval = 0.0;           // τ − τ_s: the time since the state
   std::size_t history_positions = 0;
 };
@@ -124,9 +123,8 @@ class ObjectTrack {
   // positions (zero with fewer), and Q the predictor's (motion_choice.hpp).
   struct Motion {
     Vector3d displacement;
-    Matrix3d covariance;     // D [Q(τ) − Q(τ_s)] D (+ the speed term)
+    Matrix3d covariance;     // D [Q(τ) − Q(τ_s)] D + (τ² − τ_s²) Var(v̂) (+ the speed term)
     Matrix3d process_noise;  // Q(τ) − Q(τ_s)
-    Matrix3d velocity_error;  // (τ² − τ_s²) Var(v̂), part of covariance (zero without `velocity_error`)
     double interval;
   };
   // Without `velocity_error`, P leaves Var(v̂) out (as Q's calibration sees it: learn/filter_calibration.hpp).
@@ -142,6 +140,8 @@ class ObjectTrack {
   // Var(v̂) of the least-squares velocity of the history positions (of the last two with `last_two`),
   // their errors taken independent; zero with fewer than two.
   Matrix3d velocity_variance(bool last_two) const;
+  // (τ² − τ_s²) Var(v̂) to `time` (> state().time): what motion_to adds for it. Not for an empty track.
+  Matrix3d velocity_error_to(double time, bool last_two) const;
   // Makes (time, estimate) the state.
   void update(double time, const Gaussian3& estimate);
 

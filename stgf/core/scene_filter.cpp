@@ -538,29 +538,37 @@ const ProcessNoiseScale& SceneFilter::followed_scale() const {
   return follows_constant_velocity() ? state_.motion_choice.fallback_scale() : state_.process_noise_scale;
 }
 
+SceneFilter::VelocityErrors SceneFilter::velocity_errors(const ObjectTrack& track, double time) const {
+  if (!options_.history_velocity_error) return {};
+  return {track.velocity_error_to(time, /*last_two=*/false), track.velocity_error_to(time, /*last_two=*/true)};
+}
+
 void SceneFilter::learn_sample(bool coasting, bool constant_velocity, const Vector3d& innovation,
-                               const Matrix3d& known_covariance, const Matrix3d& process_noise,
-                               const Vector3d& displacement_difference) {
-  if (coasting) {
-    state_.coasting_scale.add(innovation, known_covariance, process_noise);
+                               const Matrix3d& known_covariance, const VelocityErrors& velocity_errors,
+                               const Matrix3d& process_noise, const Vector3d& displacement_difference) {
+  if (coasting) {  // by constant velocity
+    state_.coasting_scale.add(innovation, known_covariance + velocity_errors.fallback, process_noise);
   } else {
-    learn_motion(constant_velocity, innovation, known_covariance, process_noise, displacement_difference);
+    learn_motion(constant_velocity, innovation, known_covariance, velocity_errors, process_noise, displacement_difference);
   }
 }
 
 void SceneFilter::learn_motion(bool constant_velocity, const Vector3d& innovation,
-                               const Matrix3d& known_covariance, const Matrix3d& process_noise,
-                               const Vector3d& displacement_difference) {
+                               const Matrix3d& known_covariance, const VelocityErrors& velocity_errors,
+                               const Matrix3d& process_noise, const Vector3d& displacement_difference) {
   const Vector3d other = innovation + displacement_difference;
   const Vector3d& learned = constant_velocity ? other : innovation;
   const Vector3d& fallback = constant_velocity ? innovation : other;
+  const Matrix3d learned_known = known_covariance + velocity_errors.learned;
+  const Matrix3d fallback_known = known_covariance + velocity_errors.fallback;
   const bool adapt = options_.adapt_process_noise;
   if (state_.motion_choice.compares()) {
-    state_.motion_choice.add(learned, fallback, known_covariance, process_noise, state_.process_noise_scale, adapt);
+    state_.motion_choice.add(learned, fallback, learned_known, fallback_known, process_noise,
+                             state_.process_noise_scale, adapt);
   } else if (options_.motion_fallback == MotionFallback::kAlways && adapt) {
-    state_.motion_choice.learn_fallback(fallback, known_covariance, process_noise);
+    state_.motion_choice.learn_fallback(fallback, fallback_known, process_noise);
   }
-  if (adapt) state_.process_noise_scale.add(learned, known_covariance, process_noise);
+  if (adapt) state_.process_noise_scale.add(learned, learned_known, process_noise);
 }
 
 void SceneFilter::process_joint(Event& event) {
@@ -611,7 +619,7 @@ void SceneFilter::process_joint(Event& event) {
         const Gaussian3 state = state_.joint.position(object);
         prediction = TrackPrediction{
             Gaussian3::from_covariance(state.mean() + motion->displacement, state.covariance() + motion->covariance),
-            state.covariance(), motion->process_noise, motion->velocity_error, motion->interval, track.history().size()};
+            state.covariance(), motion->process_noise, motion->interval, track.history().size()};
       }
       state_.joint.predict(object, motion->displacement, motion->covariance);
       if (options_.adapt_registration_prior && track.has_frame()) {
@@ -657,9 +665,9 @@ void SceneFilter::process_joint(Event& event) {
       }
       if (!passed.empty()) {
         const JointRegistration::Innovation innovation = state_.joint.innovation(passed, passed_scales);
-        // λ scales Q alone: the history's velocity error is known, as the state's is.
+        // λ scales Q alone: the history's velocity error is known, as the state's is (each motion's its own).
         learn_sample(coasting, constant_velocity, innovation.value,
-                     innovation.covariance - motion->covariance + motion->velocity_error,
+                     innovation.covariance - motion->covariance, velocity_errors(track, time),
                      motion->process_noise, motion->displacement - track.displacement_to(time, !constant_velocity));
       }
     }
@@ -756,6 +764,7 @@ void SceneFilter::process(Event& event) {
     bool coasting;
     Vector3d value;
     Matrix3d known_covariance;        // P̂_s + R
+    VelocityErrors velocity_errors;
     Matrix3d process_noise;           // Q(τ) − Q(τ_s)
     Vector3d displacement_difference;  // d_followed − d_other
   };
@@ -877,7 +886,8 @@ void SceneFilter::process(Event& event) {
       if (opens_frame && prediction && combined && prediction->history_positions >= 2 && learns_from(coasting) &&
           !innovation) {
         innovation = Innovation{coasting, combined->mean() - prediction->prior.mean(),
-                                prediction->state_covariance + prediction->velocity_error + combined->covariance(), prediction->process_noise,
+                                prediction->state_covariance + combined->covariance(), velocity_errors(track, time),
+                                prediction->process_noise,
                                 track.displacement_to(time, constant_velocity) - track.displacement_to(time, !constant_velocity)};
       }
       if (opens_frame) track.open_frame(time);
@@ -895,6 +905,7 @@ void SceneFilter::process(Event& event) {
   if (options_.tracks == TrackMode::kPerView && registration) state_.registration.learn(fused_rows);
   for (const Innovation& innovation : innovations) {
     learn_sample(innovation.coasting, constant_velocity, innovation.value, innovation.known_covariance,
+                 innovation.velocity_errors,
                  innovation.process_noise, innovation.displacement_difference);
   }
 }

@@ -302,16 +302,27 @@ class SceneFilter {
   // Whether step 4 takes samples at all; from a coasting track, only to adapt the coasting Q.
   bool learns_motion() const { return options_.adapt_process_noise || state_.motion_choice.compares(); }
   bool learns_from(bool coasting) const { return coasting ? options_.adapt_process_noise : learns_motion(); }
+  // The error each motion's forecast takes from the velocity it reads off the track's history, from the
+  // state to `time` (object_track.hpp, Var(v̂)): Φ's from the whole history, constant velocity's (and a
+  // coasting track's) from its last two positions. Zero without history_velocity_error.
+  struct VelocityErrors {
+    Matrix3d learned = Matrix3d::Zero();
+    Matrix3d fallback = Matrix3d::Zero();
+  };
+  VelocityErrors velocity_errors(const ObjectTrack& track, double time) const;
   // Step 4 for one sample of a track that learns_from(coasting): a coasting track's teaches the
   // coasting λ alone; any other's goes to learn_motion.
   void learn_sample(bool coasting, bool constant_velocity, const Vector3d& innovation, const Matrix3d& known_covariance,
-                    const Matrix3d& process_noise, const Vector3d& displacement_difference);
+                    const VelocityErrors& velocity_errors, const Matrix3d& process_noise,
+                    const Vector3d& displacement_difference);
   // Step 4 for one sample: whether the event's predictions followed constant velocity (read at the
   // event's start: the choice may switch part-way through the event's samples), the innovation ν of
-  // the motion followed, A = P̂_s + R, Q(τ) − Q(τ_s), and d_followed − d_other, the two motions'
-  // displacements (the other's innovation is ν + that).
+  // the motion followed, A = P̂_s + R, each motion's velocity error (A_m = A + its own: each is judged,
+  // and its λ learnt, with what its own forecast knows it lacks), Q(τ) − Q(τ_s), and d_followed −
+  // d_other, the two motions' displacements (the other's innovation is ν + that).
   void learn_motion(bool constant_velocity, const Vector3d& innovation, const Matrix3d& known_covariance,
-                    const Matrix3d& process_noise, const Vector3d& displacement_difference);
+                    const VelocityErrors& velocity_errors, const Matrix3d& process_noise,
+                    const Vector3d& displacement_difference);
   // A release of a view's offset that add() found (view_noise_scales.hpp): applied now, or scheduled
   // from when the shift began and the filter set to go back there.
   void schedule_release(const std::string& view, const ViewNoiseScales::Release& release, double time);

@@ -39,7 +39,7 @@ TEST(MotionChoice, StaysWithTheModelWhileItPredictsBetter) {
   const ProcessNoiseScale learned;
   for (int k = 0; k < 200; ++k) {
     const Vector3d model = draw(random);
-    choice.add(model, model + Vector3d(0.2, 0.0, 0.0), kKnown, kProcess, learned, /*adapt=*/true);
+    choice.add(model, model + Vector3d(0.2, 0.0, 0.0), kKnown, kKnown, kProcess, learned, /*adapt=*/true);
     EXPECT_FALSE(choice.constant_velocity()) << "sample " << k;
   }
   EXPECT_LT(choice.evidence(), -MotionChoice::kSwitchEvidence);
@@ -54,7 +54,7 @@ TEST(MotionChoice, SwitchesOnceConstantVelocityIsFavouredByOddsOfAHundredToOne) 
   bool switched = false;
   for (int k = 0; k < 200; ++k) {
     const Vector3d fallback = draw(random);
-    choice.add(fallback + Vector3d(0.2, 0.0, 0.0), fallback, kKnown, kProcess, learned, /*adapt=*/true);
+    choice.add(fallback + Vector3d(0.2, 0.0, 0.0), fallback, kKnown, kKnown, kProcess, learned, /*adapt=*/true);
     // Exactly when the evidence passes ln 100, not before.
     if (!switched) {
       EXPECT_EQ(choice.constant_velocity(), choice.evidence() > MotionChoice::kSwitchEvidence);
@@ -71,13 +71,13 @@ TEST(MotionChoice, GoesBackOnlyOnStrongEvidenceForTheModel) {
   const ProcessNoiseScale learned;
   while (!choice.constant_velocity()) {
     const Vector3d fallback = draw(random);
-    choice.add(fallback + Vector3d(0.2, 0.0, 0.0), fallback, kKnown, kProcess, learned, /*adapt=*/false);
+    choice.add(fallback + Vector3d(0.2, 0.0, 0.0), fallback, kKnown, kKnown, kProcess, learned, /*adapt=*/false);
   }
   // Now the model is the better one: the choice holds until the evidence is ln 100 the other way.
   while (choice.constant_velocity()) {
     const double before = choice.evidence();
     const Vector3d model = draw(random);
-    choice.add(model, model + Vector3d(0.2, 0.0, 0.0), kKnown, kProcess, learned, /*adapt=*/false);
+    choice.add(model, model + Vector3d(0.2, 0.0, 0.0), kKnown, kKnown, kProcess, learned, /*adapt=*/false);
     if (choice.constant_velocity()) {
       EXPECT_GT(choice.evidence(), -MotionChoice::kSwitchEvidence);
     }
@@ -94,7 +94,7 @@ TEST(MotionChoice, ConstantVelocityLearnsItsOwnScaleOfQ) {
   std::normal_distribution<double> wide(0.0, 1.0);  // far more than A + Q say
   for (int k = 0; k < 100; ++k) {
     const Vector3d fallback(wide(random), wide(random), wide(random));
-    choice.add(draw(random), fallback, kKnown, kProcess, learned, /*adapt=*/true);
+    choice.add(draw(random), fallback, kKnown, kKnown, kProcess, learned, /*adapt=*/true);
   }
   EXPECT_GT(choice.fallback_scale().scales().minCoeff(), 16.0);
   EXPECT_FALSE(choice.constant_velocity());
@@ -106,7 +106,7 @@ TEST(MotionChoice, OnlyTheAutomaticChoiceCompares) {
     MotionChoice choice(policy);
     EXPECT_FALSE(choice.compares());
     EXPECT_EQ(choice.constant_velocity(), policy == MotionFallback::kAlways);
-    EXPECT_THROW(choice.add(Vector3d::Zero(), Vector3d::Zero(), kKnown, kProcess, learned, true), std::logic_error);
+    EXPECT_THROW(choice.add(Vector3d::Zero(), Vector3d::Zero(), kKnown, kKnown, kProcess, learned, true), std::logic_error);
   }
   EXPECT_TRUE(MotionChoice(MotionFallback::kAuto).compares());
 }

@@ -80,16 +80,16 @@ TEST(ObjectTrack, ForecastCountsTheErrorOfTheVelocityItReadsFromTheHistory) {
       {"s", "", 0.2, {{"o", {Vector3d(0, 0, 0), Vector3d(0.1, 0, 0)}, {0.0, 0.1}}}}})[0][0]);
   const ObjectTrack::Motion motion = track.motion_to(0.15, predictor, scale);
   const Matrix3d velocity_error = 0.05 * 0.05 * (p1 + p2) / 0.01;
-  EXPECT_LT((motion.velocity_error - velocity_error).norm(), 1e-12);
+  EXPECT_LT((track.velocity_error_to(0.15, false) - velocity_error).norm(), 1e-12);
   EXPECT_LT((motion.covariance - (2.0 * 0.05 * 0.05 * Matrix3d::Identity() + velocity_error)).norm(), 1e-12);
-  // The prediction carries it, and says which part it is (Q's scale is learnt without it).
+  // The prediction carries it; constant velocity's from the last two positions (the same two here).
   const TrackPrediction prediction = track.predict(0.15, predictor, scale);
   EXPECT_LT((prediction.prior.covariance() - (p2 + motion.covariance)).norm(), 1e-12);
-  EXPECT_LT((prediction.velocity_error - velocity_error).norm(), 1e-12);
+  EXPECT_LT((track.motion_to(0.15, predictor, scale, /*constant_velocity=*/true).covariance - motion.covariance).norm(), 1e-12);
   // Between history positions it grows by its increment: from a state at 0.15, to 0.2.
   track.open_frame(0.15);
   track.update(0.15, Gaussian3::from_covariance(Vector3d(0.15, 0, 0), p2));
-  EXPECT_LT((track.motion_to(0.2, predictor, scale).velocity_error - (0.01 - 0.0025) * (p1 + p2) / 0.01).norm(), 1e-12);
+  EXPECT_LT((track.velocity_error_to(0.2, false) - (0.01 - 0.0025) * (p1 + p2) / 0.01).norm(), 1e-12);
 
   // Three positions 0.1 s apart: w = (−5, 0, 5) per second, Var(v̂) = 25 (P̂_1 + P̂_3); the last two alone
   // (constant velocity, coasting): (P̂_2 + P̂_3) / Δt².
