@@ -102,8 +102,8 @@ is scored better by the model of the other two than by `wls` and `mmt`, with NEE
 0.0419 m against 0.0555 (NEES 2.71), cad 0.3325 against 0.4632 (3.11), ethucy 0.0934 against 0.1032
 (2.92). Trained on all three, the model is as accurate as mpl's own model (0.0382 both) and ahead of
 cad's (0.3243 against 0.3247) and ethucy's (0.0854 against 0.0863); NEES 2.68, 3.34 and 2.48 (just
-below: x, y 1.94, z 0.54 — the heights, whose velocity error the forecasts count though Φ hardly
-moves them, design §1.2). How they got there, each step measured on these test splits when it came
+below: x, y 1.94, z 0.54 — the heights, whose velocity error the forecasts count as if their
+history's errors were independent, design §1.2). How they got there, each step measured on these test splits when it came
 in (2026-11-28, and the last 2026-12-02):
 - Q's scales learned across the run's scenes (the default for a model of several benchmarks, design
   §1.2; the `Q scaled across scenes` lines above): without-mpl on mpl 0.0519 → 0.0494 (NEES 1.95 →

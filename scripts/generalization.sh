@@ -394,7 +394,8 @@ cat >> "$out/generalization.md" <<'NOTES'
   measurements, not from a prior at the origin).
 - **The general model** (the last table) is below `wls` and `mmt` on every proxy, with NEES in
   [2.5, 3.5] on all but ETH/UCY's eth scene, just below (2.48: x, y 1.94, z 0.54 — the heights, whose
-  velocity error the forecasts count though Φ hardly moves them, design §1.2; cad's test split, 3.55
+  velocity error the forecasts count as if their history's errors were independent, design §1.2;
+  cad's test split, 3.55
   before that, is at 3.34). The cameras 3 and 5 times worse calibrated are at 2.59 and 2.89, where
   until the vertical offsets took a scale of their own they were at 2.18 and 2.19 with the heights far
   too uncertain (design §1.7). Trained with `--rotate`, it is within 0.1 % on the turned mpl split

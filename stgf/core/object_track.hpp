@@ -42,10 +42,10 @@
 // and a track that coasts), w_i = (t_i − t̄) / Σ_j (t_j − t̄)², their errors independent:
 //     Var(v̂) = Σ_i w_i² P̂_i           ((P̂_1 + P̂_2) / Δt² for two positions).
 // An upper bound: successive positions' errors are positively correlated (the offsets' share recurs,
-// and cancels in a difference; each update starts from the last), and Φ need not extrapolate every
-// axis (on the ground plane its heights hardly move) — counting the offsets' share out, with the
-// positions' covariance given the offsets, changed DE and NEES on the validation splits by < 0.3 %
-// and 0.02. With a history of n equally spaced positions Var(v̂) = 12 σ² / (n (n² − 1) Δt²): 2 σ²/Δt²
+// and cancels in a difference; each update starts from the last, most of all on an axis whose Q is
+// tiny, such as a ground plane's heights, which the term makes too uncertain) — counting the offsets'
+// share out, with the positions' covariance given the offsets, changed DE and NEES on the validation
+// splits by < 0.3 % and 0.02. With a history of n equally spaced positions Var(v̂) = 12 σ² / (n (n² − 1) Δt²): 2 σ²/Δt²
 // for two, 0.02 σ²/Δt² for eight. Chosen on the validation splits (design §1.2).
 
 #include <deque>
