@@ -149,42 +149,22 @@ void read_ours(const std::string& path, const YAML::Node& node, OursSettings& se
     const std::string key = keys(entry.first);
     const std::string name = "ours." + key;
     if (key == "registration") {
-      try {
-        settings.registration = entry.second.as<bool>();
-      } catch (const YAML::Exception&) {
-        throw InputError(path, line_of(entry.second), name + " must be true or false");
-      }
+      settings.registration = boolean(path, name, entry.second);
     } else if (key == "registration_translation_sigma_m") {
       settings.translation_sigma = one_or_three_non_negative(path, name, entry.second, "x, y, z");
     } else if (key == "adapt_process_noise") {
-      try {
-        settings.adapt_process_noise = entry.second.as<bool>();
-      } catch (const YAML::Exception&) {
-        throw InputError(path, line_of(entry.second), name + " must be true or false");
-      }
+      settings.adapt_process_noise = boolean(path, name, entry.second);
     } else if (key == "motion_fallback") {
       const std::string value = one_of(path, name, entry.second, {"auto", "off", "always"});
       settings.motion_fallback = value == "auto" ? MotionFallback::kAuto
                                  : value == "off" ? MotionFallback::kOff
                                                   : MotionFallback::kAlways;
     } else if (key == "adapt_registration_prior") {
-      try {
-        settings.adapt_registration_prior = entry.second.as<bool>();
-      } catch (const YAML::Exception&) {
-        throw InputError(path, line_of(entry.second), name + " must be true or false");
-      }
+      settings.adapt_registration_prior = boolean(path, name, entry.second);
     } else if (key == "cross_view_weights") {
-      try {
-        settings.cross_view_weights = entry.second.as<bool>();
-      } catch (const YAML::Exception&) {
-        throw InputError(path, line_of(entry.second), name + " must be true or false");
-      }
+      settings.cross_view_weights = boolean(path, name, entry.second);
     } else if (key == "history_velocity_error") {
-      try {
-        settings.history_velocity_error = entry.second.as<bool>();
-      } catch (const YAML::Exception&) {
-        throw InputError(path, line_of(entry.second), name + " must be true or false");
-      }
+      settings.history_velocity_error = boolean(path, name, entry.second);
     } else if (key == "registration_noise_ratio") {
       settings.noise_ratio = one_or_three_non_negative(path, name, entry.second, "along, across, vertical");
     } else if (key == "registration_prior_scale") {

@@ -192,6 +192,7 @@ TEST(MethodConfigFile, ShippedConfigHoldsTheDefaults) {
   EXPECT_EQ(shipped.ours.stop_on_late, defaults.ours.stop_on_late);
   EXPECT_EQ(shipped.ours.motion_fallback, defaults.ours.motion_fallback);
   EXPECT_EQ(shipped.ours.cross_view_weights, defaults.ours.cross_view_weights);
+  EXPECT_EQ(shipped.ours.history_velocity_error, defaults.ours.history_velocity_error);
 }
 
 // Down-weighting a measurement the other views place far off (core/cross_view_weights.hpp): on by default.
@@ -199,6 +200,13 @@ TEST(MethodConfigFile, ReadsTheCrossViewWeights) {
   EXPECT_TRUE(MethodConfig{}.ours.cross_view_weights);
   EXPECT_FALSE(parse_method_config("c.yaml", "ours:\n  cross_view_weights: false\n").ours.cross_view_weights);
   EXPECT_EQ(error_of("ours:\n  cross_view_weights: maybe\n"), "c.yaml:2: ours.cross_view_weights must be true or false");
+}
+
+// The history's velocity error in a forecast's covariance (core/object_track.hpp): on by default.
+TEST(MethodConfigFile, ReadsTheHistoryVelocityError) {
+  EXPECT_TRUE(MethodConfig{}.ours.history_velocity_error);
+  EXPECT_FALSE(parse_method_config("c.yaml", "ours:\n  history_velocity_error: false\n").ours.history_velocity_error);
+  EXPECT_EQ(error_of("ours:\n  history_velocity_error: 2\n"), "c.yaml:2: ours.history_velocity_error must be true or false");
 }
 
 // Tracks, the lag window and what happens to a message later than it.
