@@ -6,7 +6,19 @@
 #include <limits>
 #include <stdexcept>
 
+#include <Eigen/Cholesky>
+#include <Eigen/Eigenvalues>
+
 namespace stgf {
+namespace {
+
+// The positive semidefinite part of a symmetric matrix: its negative eigenvalues set to zero.
+Matrix3d positive_part(const Matrix3d& matrix) {
+  const Eigen::SelfAdjointEigenSolver<Matrix3d> eigen(symmetrised(matrix));
+  return eigen.eigenvectors() * eigen.eigenvalues().cwiseMax(0.0).asDiagonal() * eigen.eigenvectors().transpose();
+}
+
+}  // namespace
 
 Vector3d ObjectTrack::last_velocity() const {
   const std::size_t n = history_.size();
@@ -17,8 +29,8 @@ Vector3d ObjectTrack::last_velocity() const {
 }
 
 Matrix3d ObjectTrack::velocity_variance(bool last_two) const {
-  // v̂ = Σ_i w_i p_i, w_i = (t_i − t̄) / Σ_j (t_j − t̄)², over the positions it reads; with their errors
-  // taken independent, Var(v̂) = Σ_i w_i² P_i.
+  // v̂ = Σ_i w_i p_i, w_i = (t_i − t̄) / Σ_j (t_j − t̄)², over the positions it reads:
+  // Var(v̂) = Σ_i w_i² P_i + Σ_{i>j} w_i w_j (C_ij + C_ijᵀ), C_ij = G_i ⋯ G_{j+1} P_j.
   const std::size_t n = history_.size();
   if (n < 2) return Matrix3d::Zero();
   const std::size_t first = last_two ? n - 2 : 0;
@@ -29,11 +41,20 @@ Matrix3d ObjectTrack::velocity_variance(bool last_two) const {
   for (std::size_t i = first; i < n; ++i) spread += (history_[i].time - mean_time) * (history_[i].time - mean_time);
   Matrix3d variance = Matrix3d::Zero();
   if (!(spread > 0.0)) return variance;
-  for (std::size_t i = first; i < n; ++i) {
-    const double weight = (history_[i].time - mean_time) / spread;
-    variance += weight * weight * history_[i].estimate.covariance();
+  const auto weight = [&](std::size_t i) { return (history_[i].time - mean_time) / spread; };
+  // B_j = Σ_{i>j} w_i G_i ⋯ G_{j+1}, backwards: B_{n−1} = 0, B_j = (w_{j+1} I + B_{j+1}) G_{j+1}; then
+  // Var(v̂) = Σ_j (w_j² P_j + w_j (B_j P_j + (B_j P_j)ᵀ)).
+  Matrix3d later = Matrix3d::Zero();  // B_j
+  for (std::size_t j = n; j-- > first;) {
+    if (j + 1 < n) later = (weight(j + 1) * Matrix3d::Identity() + later) * history_[j + 1].carried;
+    const Matrix3d& p_j = history_[j].estimate.covariance();
+    const Matrix3d cross = weight(j) * later * p_j;
+    variance += weight(j) * weight(j) * p_j + cross + cross.transpose();
   }
-  return symmetrised(variance);
+  // A covariance: the correlations follow the model only as far as each G does (an update that widened
+  // its prior, as a conflict's spread does, has no such G).
+  if (Eigen::LDLT<Matrix3d>(variance).isPositive()) return variance;
+  return positive_part(variance);
 }
 
 Matrix3d ObjectTrack::velocity_error_to(double time, bool last_two) const {
@@ -94,12 +115,26 @@ TrackPrediction ObjectTrack::predict(double time, const MotionPredictor& predict
 
 void ObjectTrack::update(double time, const Gaussian3& estimate) {
   if (!state_) first_time_ = time;
-  state_ = TrackPoint{time, estimate};
+  state_ = TrackPoint{time, estimate, Matrix3d::Zero()};
+}
+
+void ObjectTrack::update(double time, const Gaussian3& estimate, const Matrix3d& prior_covariance) {
+  if (!state_) {
+    update(time, estimate);
+    return;
+  }
+  // G = P⁺ (P⁻)⁻¹ = ((P⁻)⁻¹ P⁺)ᵀ, both symmetric.
+  const Eigen::LDLT<Matrix3d> prior(prior_covariance);
+  const Matrix3d share = prior.info() == Eigen::Success && prior.isPositive()
+                             ? Matrix3d(prior.solve(estimate.covariance()).transpose())
+                             : Matrix3d::Zero();
+  state_ = TrackPoint{time, estimate, share * state_->carried};
 }
 
 void ObjectTrack::close_frame(const MotionPredictor& predictor) {
   if (!frame_time_ || !state_) throw std::logic_error("ObjectTrack::close_frame: no open frame");
   history_.push_back(*state_);
+  state_->carried = Matrix3d::Identity();  // the state is the last history position
   const auto limit = static_cast<std::size_t>(predictor.history_positions());
   while (history_.size() > limit) history_.pop_front();
   if (history_.size() >= 2) {

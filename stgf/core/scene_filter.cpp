@@ -402,7 +402,7 @@ void SceneFilter::close_frames(double time) {
     if (!track.history().empty() && track.state().time - track.history().back().time < window) continue;
     // Jointly, later measurements of other objects may have refined this one's position through the
     // offsets: the history gets what is known of it now.
-    if (joint()) track.update(track.state().time, state_.joint.position(key.second));
+    if (joint()) track.update(track.state().time, state_.joint.position(key.second), track.state().estimate.covariance());
     if (joint() && options_.adapt_registration_prior && track.frame_alignment().size() >= 2) {
       // The measurements fused alone within the frame, compared along the track's path.
       track.frame_alignment().aligned(aligned_.measurements, aligned_.noise_scales, aligned_.covariances);
@@ -585,6 +585,7 @@ void SceneFilter::process_joint(Event& event) {
     std::size_t first, end;  // its rows
     ObjectTrack* track;
     std::optional<TrackPrediction> prediction;
+    Matrix3d prior_covariance;  // P̂_s + the motion's: what the update started from (of a track that goes on)
     MeasurementGate::Decision decision;
     Matrix3d conflict_spread;  // with decision.conflicting
     std::vector<double> noise_scales;  // of its rows (cross_view_scales, times the views' μ)
@@ -672,7 +673,10 @@ void SceneFilter::process_joint(Event& event) {
       }
     }
     const Matrix3d spread = decision.conflicting ? conflict_spread(alone) : Matrix3d::Zero();
-    checked.push_back(Checked{first, end, &track, std::move(prediction), std::move(decision), spread, std::move(scales)});
+    const Matrix3d prior_covariance = motion && !track.empty() ? Matrix3d(track.state().estimate.covariance() + motion->covariance)
+                                                               : Matrix3d::Identity();  // (unused for an empty track)
+    checked.push_back(Checked{first, end, &track, std::move(prediction), prior_covariance, std::move(decision), spread,
+                              std::move(scales)});
   }
   if (refilter_) return;  // going back: the whole event comes again
   std::vector<const Measurement*> fused;
@@ -731,7 +735,9 @@ void SceneFilter::process_joint(Event& event) {
     for (std::size_t k = 0; k < rows.size(); ++k) gated[k] = !object.decision.passes[k];
     const Gaussian3& estimate = estimates[i];
     if (!track.has_frame()) track.open_frame(time);
-    track.update(time, estimate);
+    // P⁻ is the state's as the track last held it plus the motion's: the share G = P⁺ (P⁻)⁻¹ counts what
+    // other objects' measurements told of this one through the offsets since as part of this update.
+    track.update(time, estimate, object.prior_covariance);
     report(event, object.first, object.end, estimate, object.prediction, gated);
   }
 }
@@ -891,7 +897,11 @@ void SceneFilter::process(Event& event) {
                                 track.displacement_to(time, constant_velocity) - track.displacement_to(time, !constant_velocity)};
       }
       if (opens_frame) track.open_frame(time);
-      track.update(time, fused);
+      if (prediction) {
+        track.update(time, fused, prediction->prior.covariance());
+      } else {
+        track.update(time, fused);
+      }
       if (decision.conflicting) track.mark_started_in_conflict();
       if (options_.tracks == TrackMode::kPerObject) {
         report(event, first, end, fused, prediction, gated);

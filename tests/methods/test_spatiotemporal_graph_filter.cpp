@@ -275,8 +275,12 @@ TEST(SpatiotemporalGraphFilter, LearnsQFromTheViewsCombinedInnovation) {
 }
 
 // On the same walk most of what λ learnt is the error of the velocity read off the noisy fused
-// positions (object_track.hpp, Var(v̂)): counted, the filter is honest without scaling Q, and λ stays
-// near 1; left out and not learnt, its NEES is many times 3.
+// positions (object_track.hpp, Var(v̂)): counted, the filter is honest without scaling Q; left out and
+// not learnt, its NEES is many times 3; counted and learnt, honest too. (While Var(v̂) counted the
+// positions' errors independent, overstating the slope's error of positions smoothed this much, λ
+// also stayed below 3; counted with their correlation, what remains is constant velocity's error on
+// the turn, and λ learns it: on this walk λ_y reaches 2^15.5, λQ 0.0046 m² a step, near the views'
+// combined noise 0.0075 m², and λ_x stays 1 — one scene's λ on a grid jumps between modes.)
 TEST(SpatiotemporalGraphFilter, CountsTheErrorOfTheVelocityReadOffNoisyPositions) {
   const ConstantVelocityPredictor predictor(1e-5, 1.0);
   FilterOptions counted = twelve_views_options(), neither = twelve_views_options();
@@ -290,8 +294,9 @@ TEST(SpatiotemporalGraphFilter, CountsTheErrorOfTheVelocityReadOffNoisyPositions
   EXPECT_GT(nees_without, 20.0);
   FilterOptions learning = twelve_views_options();
   SpatiotemporalGraphFilter learns(predictor, learning);
-  EXPECT_LT(nees_of_twelve_noisy_views(learns), 4.5);
-  EXPECT_LT(learns.process_noise_scales().maxCoeff(), 3.0);
+  const double nees_learning = nees_of_twelve_noisy_views(learns);
+  EXPECT_GT(nees_learning, 1.5);
+  EXPECT_LT(nees_learning, 4.5);
 }
 
 // Constant velocity that hands every track with two history positions to coasting (its widest history
