@@ -7,18 +7,10 @@
 #include <stdexcept>
 
 #include <Eigen/Cholesky>
-#include <Eigen/Eigenvalues>
+
+#include "stgf/core/eigenvalue_floor.hpp"
 
 namespace stgf {
-namespace {
-
-// The positive semidefinite part of a symmetric matrix: its negative eigenvalues set to zero.
-Matrix3d positive_part(const Matrix3d& matrix) {
-  const Eigen::SelfAdjointEigenSolver<Matrix3d> eigen(symmetrised(matrix));
-  return eigen.eigenvectors() * eigen.eigenvalues().cwiseMax(0.0).asDiagonal() * eigen.eigenvectors().transpose();
-}
-
-}  // namespace
 
 Vector3d ObjectTrack::last_velocity() const {
   const std::size_t n = history_.size();
@@ -54,7 +46,7 @@ Matrix3d ObjectTrack::velocity_variance(bool last_two) const {
   // A covariance: the correlations follow the model only as far as each G does (an update that widened
   // its prior, as a conflict's spread does, has no such G).
   if (Eigen::LDLT<Matrix3d>(variance).isPositive()) return variance;
-  return positive_part(variance);
+  return with_eigenvalues_at_least(variance, 0.0);
 }
 
 Matrix3d ObjectTrack::velocity_error_to(double time, bool last_two) const {

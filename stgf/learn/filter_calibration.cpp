@@ -9,6 +9,7 @@
 #include <string>
 #include <string_view>
 
+#include "stgf/core/eigenvalue_floor.hpp"
 #include "stgf/core/process_noise_curve.hpp"
 #include "stgf/learn/process_noise_rounds.hpp"
 #include "stgf/methods/filter_runner.hpp"
@@ -103,9 +104,7 @@ std::optional<IntervalMoment> interval_moment(const std::vector<Residual>& resid
   const auto n = static_cast<double>(result.count);
   result.nees /= n;
   result.error /= n;
-  const Eigen::SelfAdjointEigenSolver<Matrix3d> eigen(symmetrised(sum / n));
-  const Vector3d floored = eigen.eigenvalues().cwiseMax(kProcessNoiseFloor);
-  result.moment = eigen.eigenvectors() * floored.asDiagonal() * eigen.eigenvectors().transpose();
+  result.moment = with_eigenvalues_at_least(sum / n, kProcessNoiseFloor);
   if (any_heading) result.moment = averaged_over_headings(result.moment);
   return result;
 }
@@ -138,9 +137,7 @@ void check_targets(const char* function, std::span<const Measurement> measuremen
 
 // `measured`, raised where it is below `previous`: previous + ⌊measured − previous⌋₊.
 Matrix3d at_least(const Matrix3d& measured, const Matrix3d& previous) {
-  const Eigen::SelfAdjointEigenSolver<Matrix3d> eigen(symmetrised(measured - previous));
-  const Vector3d positive = eigen.eigenvalues().cwiseMax(0.0);
-  return symmetrised(previous + eigen.eigenvectors() * positive.asDiagonal() * eigen.eigenvectors().transpose());
+  return symmetrised(previous + with_eigenvalues_at_least(measured - previous, 0.0));
 }
 
 }  // namespace
@@ -183,9 +180,7 @@ FilterCalibration calibrate_filter_process_noise(MotionModel& model, const Regis
       moment += reference_shrinkage(calibration.period, residual.dt) * (residual.error * residual.error.transpose() - residual.known_covariance);
     }
     const auto n = static_cast<double>(residuals.size());
-    const Eigen::SelfAdjointEigenSolver<Matrix3d> eigen(symmetrised(moment / n));
-    const Vector3d floored = eigen.eigenvalues().cwiseMax(kProcessNoiseFloor);
-    Matrix3d measured = eigen.eigenvectors() * floored.asDiagonal() * eigen.eigenvectors().transpose();
+    Matrix3d measured = with_eigenvalues_at_least(moment / n, kProcessNoiseFloor);
     if (any_heading) measured = averaged_over_headings(measured);
     report.stable = steps->record(report.prior_error, measured);
     report.process_noise = steps->current();

@@ -12,9 +12,8 @@
 #include <stdexcept>
 #include <thread>
 
-#include <Eigen/Eigenvalues>
-
 #include "stgf/core/cholesky3.hpp"
+#include "stgf/core/eigenvalue_floor.hpp"
 #include "stgf/learn/motion_network.hpp"
 
 namespace stgf {
@@ -122,10 +121,7 @@ std::size_t count_objects(const std::vector<TrainingGraph>& graphs) {
 // Q_ref = E[r rᵀ] − E[P_last] − E[P_target], eigenvalues floored. A measured target's own noise is in
 // r (independent of the prediction's error), and E[P_target] takes it out again; the truth has none.
 Matrix3d calibrated_process_noise(const Matrix3d& residual_moment, const Matrix3d& mean_known_covariance) {
-  const Matrix3d difference = symmetrised(residual_moment - mean_known_covariance);
-  Eigen::SelfAdjointEigenSolver<Matrix3d> eigen(difference);
-  const Vector3d floored = eigen.eigenvalues().cwiseMax(kProcessNoiseFloor);
-  return symmetrised(eigen.eigenvectors() * floored.asDiagonal() * eigen.eigenvectors().transpose());
+  return symmetrised(with_eigenvalues_at_least(residual_moment - mean_known_covariance, kProcessNoiseFloor));
 }
 
 }  // namespace
