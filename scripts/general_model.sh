@@ -21,9 +21,10 @@ train() {  # name, benchmarks (comma-separated names)[, more stgf train options]
   [ -f "$out/$name.pt" ] || build/stgf train --benchmark "$folders" --out "$out/$name.pt" --epochs 8 --seed 1 \
     --threads 2 --portable "${@:3}" 2> "$out/$name-train.log"
 }
+# Each training graph is turned by a random heading every epoch (--rotate, stgf train's default; design
+# §1.1, "The world frame's heading"); said aloud for the models of several benchmarks, as their recipe
+# (models/README.md) says it.
 train ethucy ethucy
-# The models of several benchmarks are meant for data in any world frame: each training graph is
-# turned by a random heading every epoch (--rotate; design §1.1, "The world frame's heading").
 train without-mpl cad,ethucy --rotate
 train without-cad mpl,ethucy --rotate
 train without-ethucy mpl,cad --rotate
@@ -40,7 +41,7 @@ doc="$out/general-model.md"
   echo "# One model for several kinds of data"
   echo
   echo "Produced by \`scripts/general_model.sh\` (seed 1). Each model is trained with"
-  echo "\`stgf train --benchmark A,B\` (8 epochs, as \`stgf reproduce\` trains; a model of several benchmarks with \`--rotate\`, each"
+  echo "\`stgf train --benchmark A,B\` (8 epochs, as \`stgf reproduce\` trains; with \`--rotate\`, the default, each"
   echo "training graph turned by a random heading every epoch) on the train and val splits"
   echo "of the benchmarks it names, and scored on the test split of the one it did not see. \`ours"
   echo "(own)\` is the held-out benchmark's own model (docs/results.md; for ethucy trained here the same"

@@ -49,9 +49,10 @@ void add_train_command(CLI::App& app) {
                       "model's horizon)")
       ->capture_default_str()
       ->check(CLI::NonNegativeNumber);
-  command->add_flag("--rotate", options->rotate,
+  command->add_flag("--rotate,!--no-rotate", options->rotate,
                     "turn each training scene by a random heading every epoch, so that the model does not learn the "
-                    "world frame's orientation");
+                    "world frame's orientation (the default; --no-rotate keeps the scenes as recorded, for a model "
+                    "that only ever sees one world frame)");
   command->add_option("--epochs", t.epochs, "training epochs")->capture_default_str()->check(CLI::PositiveNumber);
   command->add_option("--lr", t.learning_rate, "Adam learning rate")->capture_default_str()->check(CLI::PositiveNumber);
   command->add_option("--batch", t.batch_graphs, "graphs per optimisation step")

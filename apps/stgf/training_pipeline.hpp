@@ -50,7 +50,7 @@ struct ModelTraining {
   // Also calibrate σ_ε of each view's range scale (registration_calibration.hpp); false: none; unset
   // (auto): for one benchmark whose views all stand still.
   std::optional<bool> range_scale;
-  bool rotate = false;  // turn each training graph by a random heading every epoch (MotionTrainingOptions::rotate)
+  bool rotate = true;  // turn each training graph by a random heading every epoch (MotionTrainingOptions::rotate)
   // Q also calibrated at intervals up to this many seconds (calibrate_process_noise_intervals), so that
   // tracks coast across missed frames and low frame rates; 0: off.
   double long_intervals = kDefaultLongIntervals;

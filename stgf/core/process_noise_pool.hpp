@@ -13,7 +13,9 @@
 // that start as before.
 //
 // Assumption: the run's scenes share how far their motion departs from Q (the same λ fits them all,
-// up to what each scene's own innovations add). The summed evidence of many scenes holds λ near its
+// up to what each scene's own innovations add). Where the scenes start from that sum, λ may fall
+// below 1 or is held at 1 and above (ProcessNoiseScale's `below_one`; the caller's choice,
+// `process_noise_scale: across-scenes` or `grow-across-scenes`). The summed evidence of many scenes holds λ near its
 // maximum-likelihood value over the run; a scene whose motion is harder than the rest's still widens
 // its own Q, since λ only grows from there as its innovations demand.
 
@@ -41,11 +43,12 @@ class ProcessNoisePool {
   // none in the first epoch.
   std::optional<ProcessNoiseEvidence> evidence_for(std::size_t scene_index) const;
   // λ̂ of each of the three scales from every scene added so far: what the run's scenes together said
-  // of Q; none for a scale no innovation taught (e.g. Φ's where every track coasted).
+  // of Q (`below_one` false: held at 1 and above, as the scenes were); none for a scale no innovation
+  // taught (e.g. Φ's where every track coasted).
   struct Scales {
     std::optional<Vector3d> followed, fallback, coasting;
   };
-  Scales scales() const;
+  Scales scales(bool below_one = true) const;
 
  private:
   EpochSums<ProcessNoiseEvidence> sums_;

@@ -44,7 +44,7 @@ ProcessNoiseScale::ProcessNoiseScale() {
   }
 }
 
-ProcessNoiseScale::ProcessNoiseScale(const Grid& evidence) : ProcessNoiseScale() {
+ProcessNoiseScale::ProcessNoiseScale(const Grid& evidence, bool below_one) : ProcessNoiseScale() {
   for (int a = 0; a < 3; ++a) {
     for (int point = 0; point < kGridPoints; ++point) {
       if (!std::isfinite(evidence[a][point])) throw std::invalid_argument("ProcessNoiseScale: evidence must be finite");
@@ -52,7 +52,7 @@ ProcessNoiseScale::ProcessNoiseScale(const Grid& evidence) : ProcessNoiseScale()
     }
   }
   first_point_ = 0;
-  lowest_point_ = 0;
+  lowest_point_ = below_one ? 0 : kUnitPoint;
   choose_scales();
 }
 

@@ -25,6 +25,11 @@
 // is evidence_since(the scale it started as). Started so, λ may fall below 1 (to 2⁻⁶): the run's
 // scenes together are evidence that Q is too large where a scene alone is not — a model trained on
 // vehicles and pedestrians has one Q for both, 300 times too large for the pedestrians (design §1.2).
+// Or it may be held at 1 and above (`grow-across-scenes`, a model of one benchmark): its Q was
+// calibrated on data of its kind, which the run's scenes do not outweigh, but a scene too short to
+// learn that Q is too small from its own innovations (ETH/UCY's scenes of 12 steps with mpl's model,
+// whose heights Φ predicts to millimetres on PETS 2009's ground plane) starts from what the scenes
+// before it said.
 
 #include <array>
 
@@ -46,8 +51,9 @@ class ProcessNoiseScale {
   // The same, weighing them on the whole grid: a scene whose evidence other scenes will start from.
   static ProcessNoiseScale learning_the_whole_grid();
   // The prior plus what other innovations said (`evidence`: log likelihoods, e.g. other scenes'); its
-  // λ̂ may be below 1.
-  explicit ProcessNoiseScale(const Grid& evidence);
+  // λ̂ may be below 1 (`below_one`), else held at 1 and above. Either way its innovations are weighed on
+  // the whole grid.
+  explicit ProcessNoiseScale(const Grid& evidence, bool below_one = true);
 
   // Adds one innovation with weight `weight` (> 0; e.g. 1 / the number of correlated innovations).
   void add(const Vector3d& innovation, const Matrix3d& known_covariance, const Matrix3d& process_noise,

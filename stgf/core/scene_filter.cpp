@@ -90,7 +90,9 @@ int restart_after(const ObjectTrack& track) {
 
 // One of Q's scales as a scene starts it: the prior, plus what other scenes said of it.
 ProcessNoiseScale start_scale(const FilterOptions& options, ProcessNoiseScale::Grid ProcessNoiseEvidence::*scale) {
-  if (options.process_noise_start) return ProcessNoiseScale((*options.process_noise_start).*scale);
+  if (options.process_noise_start) {
+    return ProcessNoiseScale((*options.process_noise_start).*scale, options.process_noise_below_one);
+  }
   return options.process_noise_pooled ? ProcessNoiseScale::learning_the_whole_grid() : ProcessNoiseScale();
 }
 

@@ -132,6 +132,8 @@ struct FilterOptions {
   std::shared_ptr<const ProcessNoiseEvidence> process_noise_start;
   // Whether other scenes will start from this one's (its λ grids weighed whole, below 1 too).
   bool process_noise_pooled = false;
+  // Started from process_noise_start, whether λ may fall below 1 (false: Q at least as calibrated).
+  bool process_noise_below_one = true;
   TrackMode tracks = TrackMode::kPerObject;
   double lag_window = 1.0;                  // s: how late a measurement may come and still count
   // Each Result carries what its track predicted (false: none, for a caller that does not read

@@ -176,9 +176,13 @@ void read_ours(const std::string& path, const YAML::Node& node, OursSettings& se
           : where == "across-scenes" ? std::optional(RegistrationScaleLearning::kAcrossScenes)
                                      : std::optional(RegistrationScaleLearning::kShrinkAcrossScenes);
     } else if (key == "process_noise_scale") {
-      const std::string where = one_of(path, name, entry.second, {"auto", "per-scene", "across-scenes"});
-      settings.process_noise_scale_across_scenes =
-          where == "auto" ? std::nullopt : std::optional<bool>(where == "across-scenes");
+      const std::string where =
+          one_of(path, name, entry.second, {"auto", "per-scene", "across-scenes", "grow-across-scenes"});
+      settings.process_noise_scale_learning =
+          where == "auto"            ? std::nullopt
+          : where == "per-scene"     ? std::optional(ProcessNoiseScaleLearning::kPerScene)
+          : where == "across-scenes" ? std::optional(ProcessNoiseScaleLearning::kAcrossScenes)
+                                     : std::optional(ProcessNoiseScaleLearning::kGrowAcrossScenes);
     } else if (key == "registration_range_scale_sigma") {
       settings.range_scale_sigma = non_negative_number(path, name, entry.second);
     } else if (key == "tracks") {

@@ -20,6 +20,10 @@ namespace stgf {
 // calibration's, each scene learning its own from there
 // (core/registration_scale_pool.hpp, design §1.7).
 enum class RegistrationScaleLearning { kPerScene, kAcrossScenes, kShrinkAcrossScenes };
+// Where Q's scales λ are learned (process_noise_pool.hpp): each scene alone (λ ≥ 1); the run's scenes
+// pooled, every scene starting from the earlier scenes' evidence, λ below 1 too; or pooled with λ held
+// at 1 and above (Q at least as calibrated).
+enum class ProcessNoiseScaleLearning { kPerScene, kAcrossScenes, kGrowAcrossScenes };
 
 // `ours`: how it accounts for the views' registration error (core/view_registration.hpp) and for a
 // Q that does not fit the data (core/process_noise_scale.hpp).
@@ -29,9 +33,9 @@ struct OursSettings {
   std::optional<Vector3d> noise_ratio;        // α along, across, vertical to each ray; unset: the model's calibration
   std::optional<double> range_scale_sigma;    // σ_ε of each view's range scale; unset: the model's calibration
   bool adapt_process_noise = true;            // scale Q online from the innovations
-  // ... pooled over the run's scenes (process_noise_pool.hpp); unset (auto): for a model trained on
-  // several benchmarks (learns_process_noise_across_scenes).
-  std::optional<bool> process_noise_scale_across_scenes;
+  // ... per scene or pooled over the run's scenes (process_noise_pool.hpp); unset (auto):
+  // process_noise_scale_learning_for.
+  std::optional<ProcessNoiseScaleLearning> process_noise_scale_learning;
   MotionFallback motion_fallback = MotionFallback::kAuto;  // constant velocity where it predicts better
   bool adapt_registration_prior = true;       // scale the registration prior from the views' disagreements
   bool cross_view_weights = true;  // down-weight a measurement the other views at its time place far off

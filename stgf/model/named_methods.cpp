@@ -53,9 +53,10 @@ bool trained_on_several_benchmarks(const nlohmann::json& metadata) {
 
 }  // namespace
 
-bool learns_process_noise_across_scenes(const OursSettings& settings, const nlohmann::json& metadata) {
-  if (settings.process_noise_scale_across_scenes) return *settings.process_noise_scale_across_scenes;
-  return trained_on_several_benchmarks(metadata);
+ProcessNoiseScaleLearning process_noise_scale_learning_for(const OursSettings& settings, const nlohmann::json& metadata) {
+  if (settings.process_noise_scale_learning) return *settings.process_noise_scale_learning;
+  return trained_on_several_benchmarks(metadata) ? ProcessNoiseScaleLearning::kAcrossScenes
+                                                 : ProcessNoiseScaleLearning::kGrowAcrossScenes;
 }
 
 RegistrationScaleLearning registration_scale_learning_for(const OursSettings& settings, const nlohmann::json& metadata,
@@ -125,10 +126,11 @@ std::vector<Gaussian3> NamedMethodRun::add(std::span<const Measurement> rows) {
     std::optional<RegistrationScalePool>& scales = registration_scales_[sensors];
     return scales ? &*scales : nullptr;
   };
+  const ProcessNoiseScaleLearning learning = process_noise_scale_learning_for(config_.ours, model_->metadata());
   const ScenePools pools{
       .registration = {.fixed = pool(SensorMotion::kFixed), .moving = pool(SensorMotion::kMoving)},
-      .process_noise =
-          learns_process_noise_across_scenes(config_.ours, model_->metadata()) ? &process_noise_scales_ : nullptr};
+      .process_noise = learning == ProcessNoiseScaleLearning::kPerScene ? nullptr : &process_noise_scales_,
+      .process_noise_below_one = learning == ProcessNoiseScaleLearning::kAcrossScenes};
   FilterRun run = run_spatiotemporal_graph_filter(*model_, options, rows, /*keep_predictions=*/prediction_only, pools, scenes_);
   scenes_ += run.scenes;
   part.restarted_tracks = run.restarted_tracks;
@@ -139,7 +141,9 @@ std::vector<Gaussian3> NamedMethodRun::add(std::span<const Measurement> rows) {
   part.gating = std::move(run.gating);
   part.registration_prior_scales = std::move(run.registration_prior_scales);
   part.motion_choice = run.motion_choice;
-  if (pools.process_noise != nullptr) part.process_noise_scales_across_scenes = process_noise_scales_.scales();
+  if (pools.process_noise != nullptr) {
+    part.process_noise_scales_across_scenes = process_noise_scales_.scales(pools.process_noise_below_one);
+  }
   report_.add(part);
   if (prediction_only) {
     for (std::size_t row = 0; row < rows.size(); ++row) {

@@ -33,12 +33,13 @@ TrainedMotionModel load_model_for(const std::string& method, const std::string& 
 FilterOptions filter_options_for(const OursSettings& settings, const nlohmann::json& metadata,
                                  const std::string& model_path, bool* registration_missing = nullptr);
 
-// Whether `ours` learns Q's scales across the run's scenes (process_noise_pool.hpp): as set, or (auto)
+// Where `ours` learns Q's scales (process_noise_pool.hpp): as set, or (auto) across the run's scenes
 // for a model trained on several benchmarks (its metadata's `benchmark` a list of more than one): its
 // one Q is a compromise between kinds of motion (pedestrians and vehicles: 300 times apart) that fits
-// none of them, and the run's scenes together say which way to scale it. A model of one benchmark keeps
-// its calibrated Q, scaled per scene (design §1.2).
-bool learns_process_noise_across_scenes(const OursSettings& settings, const nlohmann::json& metadata);
+// none of them, and the run's scenes together say which way to scale it. A model of one benchmark
+// keeps at least its calibrated Q, grown across the run's scenes where they say it is too small: a
+// scene too short to say so alone starts from the scenes before it (design §1.2).
+ProcessNoiseScaleLearning process_noise_scale_learning_for(const OursSettings& settings, const nlohmann::json& metadata);
 
 // Where `ours` learns the registration prior's scales for scenes of fixed or of moving sensors
 // (sensor_motion.hpp): as set (for both), or (auto) where the sensors move across the run's scenes,
@@ -114,7 +115,7 @@ class NamedMethodRun {
   MethodRunReport report_;
   // ours: the registration prior's scales across the run's scenes, for fixed and for moving sensors
   // (none where each scene learns its own: registration_scale_learning_for), Q's (used where
-  // learns_process_noise_across_scenes), and how many scenes came before the next part.
+  // process_noise_scale_learning_for), and how many scenes came before the next part.
   PerSensorMotion<std::optional<RegistrationScalePool>> registration_scales_;
   ProcessNoisePool process_noise_scales_;
   std::size_t scenes_ = 0;

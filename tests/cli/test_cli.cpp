@@ -674,12 +674,13 @@ TEST_F(Cli, PortableTrainingGivesTheSameModelWhateverKernelsTheMachineWouldChoos
   EXPECT_THAT(model, HasSubstr("Prescott"));
 }
 
-// --rotate turns every training scene by a random heading each epoch; the model says so, and its Q and
-// registration prior do not depend on the world frame's heading (design §1.1).
+// stgf train turns every training scene by a random heading each epoch unless told --no-rotate; the
+// model says so, and its Q and registration prior do not depend on the world frame's heading (design
+// §1.1). --rotate, the default said aloud, trains the same model.
 TEST_F(Cli, RotatedTrainingGivesAModelThatKnowsNoHeading) {
   if (!kWithLibTorch) GTEST_SKIP() << "built without LibTorch (-DSTGF_WITH_LIBTORCH=OFF)";
   ASSERT_EQ(stgf("dataset synthetic --out bench --seed 3 --scenes 2 --objects 3 --views 2 --steps 15").status, 0);
-  const Result trained = stgf("train --benchmark bench --out m.pt --epochs 2 --batch 8 --threads 1 --rotate");
+  const Result trained = stgf("train --benchmark bench --out m.pt --epochs 2 --batch 8 --threads 1");
   ASSERT_EQ(trained.status, 0) << trained.err;
   const std::string model = slurp(directory_ / "m.pt");
   EXPECT_THAT(model, HasSubstr("\"rotate\":true"));
@@ -691,7 +692,10 @@ TEST_F(Cli, RotatedTrainingGivesAModelThatKnowsNoHeading) {
   EXPECT_EQ(diagonal.substr(0, comma), diagonal.substr(comma + 2, diagonal.find(',', comma + 1) - comma - 2)) << diagonal;
   const Result run = stgf("run --method ours --model m.pt --measurements bench/test/measurements.csv --out o.csv");
   EXPECT_EQ(run.status, 0) << run.err;
-  const Result plain = stgf("train --benchmark bench --out p.pt --epochs 1 --batch 8 --threads 1");
+  const Result said = stgf("train --benchmark bench --out r.pt --epochs 2 --batch 8 --threads 1 --rotate");
+  ASSERT_EQ(said.status, 0) << said.err;
+  EXPECT_EQ(slurp(directory_ / "r.pt"), model);
+  const Result plain = stgf("train --benchmark bench --out p.pt --epochs 1 --batch 8 --threads 1 --no-rotate");
   ASSERT_EQ(plain.status, 0) << plain.err;
   EXPECT_THAT(slurp(directory_ / "p.pt"), Not(HasSubstr("\"rotate\"")));
 }

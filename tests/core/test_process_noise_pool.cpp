@@ -63,6 +63,13 @@ TEST(ProcessNoisePool, ReportsTheScalesTheScenesTaught) {
   EXPECT_FALSE(scales.fallback.has_value());
   ASSERT_TRUE(scales.coasting.has_value());
   EXPECT_EQ(*scales.coasting, Vector3d::Constant(4.0));
+  // Held at 1 and above, as scenes that may not fall below their calibration were.
+  ProcessNoiseEvidence smaller;
+  for (auto& axis : smaller.followed) axis[ProcessNoiseScale::kUnitPoint - 4] = 100.0;  // λ = 1/4
+  pool.add(1, smaller);
+  EXPECT_EQ(*pool.scales().followed, Vector3d::Constant(0.25));
+  EXPECT_EQ(*pool.scales(/*below_one=*/false).followed, Vector3d::Ones());
+  EXPECT_EQ(*pool.scales(/*below_one=*/false).coasting, Vector3d::Constant(4.0));
 }
 
 }  // namespace

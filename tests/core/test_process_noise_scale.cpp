@@ -140,5 +140,51 @@ TEST(ProcessNoiseScale, StartsFromOtherScenesEvidence) {
   EXPECT_THROW(ProcessNoiseScale{bad}, std::invalid_argument);
 }
 
+// Started from other scenes' evidence with λ held at 1 and above (`grow-across-scenes`): where the
+// scenes say Q is too small on one axis, that axis starts there, as it would below 1 allowed; where they
+// say it is too large, Q stays as calibrated, and the scene's own innovations can still only raise it.
+// What it adds to the pool is the same either way (weighed on the whole grid).
+TEST(ProcessNoiseScale, HeldAtItsCalibrationFromOtherScenesWhereTheySayQIsTooLarge) {
+  const Matrix3d known = Matrix3d::Identity() * 0.04;
+  const Matrix3d process = Matrix3d::Identity() * 0.02;
+  // Innovations of a motion whose Q is 16 times the calibrated one along x, a sixteenth of it along y
+  // and z.
+  const Vector3d truth(16.0, 1.0 / 16.0, 1.0 / 16.0);
+  const Matrix3d factor = Matrix3d(known + truth.asDiagonal() * process).llt().matrixL();
+  std::mt19937_64 random(5);
+  std::normal_distribution<double> normal;
+  ProcessNoiseScale others = ProcessNoiseScale::learning_the_whole_grid();
+  for (int k = 0; k < 400; ++k) {
+    others.add(factor * Vector3d(normal(random), normal(random), normal(random)), known, process);
+  }
+  const ProcessNoiseScale::Grid evidence = others.evidence_since(ProcessNoiseScale::learning_the_whole_grid());
+  const Vector3d below = ProcessNoiseScale(evidence).scales();
+  EXPECT_NEAR(std::log2(below.x()), 4.0, 0.6);
+  EXPECT_LT(below.y(), 0.5);
+  EXPECT_LT(below.z(), 0.5);
+  ProcessNoiseScale held(evidence, /*below_one=*/false);
+  EXPECT_EQ(held.scales().x(), below.x());
+  EXPECT_EQ(held.scales().y(), 1.0);
+  EXPECT_EQ(held.scales().z(), 1.0);
+  // Innovations far smaller than Q says leave it at 1; far larger raise it.
+  ProcessNoiseScale free(evidence);
+  const ProcessNoiseScale held_start = held;
+  const ProcessNoiseScale free_start = free;
+  for (int k = 0; k < 50; ++k) {
+    const Vector3d innovation(0.01 * normal(random), 0.01 * normal(random), 3.0 * normal(random));
+    held.add(innovation, known, process);
+    free.add(innovation, known, process);
+  }
+  EXPECT_EQ(held.scales().y(), 1.0);
+  EXPECT_GT(held.scales().z(), 16.0);
+  const ProcessNoiseScale::Grid held_own = held.evidence_since(held_start);
+  const ProcessNoiseScale::Grid free_own = free.evidence_since(free_start);
+  for (int a = 0; a < 3; ++a) {
+    for (int point = 0; point < ProcessNoiseScale::kGridPoints; ++point) {
+      EXPECT_NEAR(held_own[a][point], free_own[a][point], 1e-9 * (1.0 + std::abs(free_own[a][point])));
+    }
+  }
+}
+
 }  // namespace
 }  // namespace stgf

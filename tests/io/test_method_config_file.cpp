@@ -143,13 +143,15 @@ TEST(MethodConfigFile, OursErrorsNameTheLine) {
             std::nullopt);
   EXPECT_EQ(parse_method_config("c.yaml", "ours:\n  lag_window_s: 1\n").ours.registration_scale_learning, std::nullopt);
   EXPECT_EQ(error_of("ours:\n  adapt_process_noise: true\n  process_noise_scale: pooled\n"),
-            "c.yaml:3: ours.process_noise_scale must be auto, per-scene or across-scenes");
-  EXPECT_EQ(parse_method_config("c.yaml", "ours:\n  process_noise_scale: across-scenes\n").ours.process_noise_scale_across_scenes,
-            std::optional<bool>(true));
-  EXPECT_EQ(parse_method_config("c.yaml", "ours:\n  process_noise_scale: per-scene\n").ours.process_noise_scale_across_scenes,
-            std::optional<bool>(false));
-  EXPECT_FALSE(parse_method_config("c.yaml", "ours:\n  process_noise_scale: auto\n").ours.process_noise_scale_across_scenes);
-  EXPECT_FALSE(MethodConfig{}.ours.process_noise_scale_across_scenes.has_value());
+            "c.yaml:3: ours.process_noise_scale must be auto, per-scene, across-scenes or grow-across-scenes");
+  EXPECT_EQ(parse_method_config("c.yaml", "ours:\n  process_noise_scale: across-scenes\n").ours.process_noise_scale_learning,
+            ProcessNoiseScaleLearning::kAcrossScenes);
+  EXPECT_EQ(parse_method_config("c.yaml", "ours:\n  process_noise_scale: grow-across-scenes\n").ours.process_noise_scale_learning,
+            ProcessNoiseScaleLearning::kGrowAcrossScenes);
+  EXPECT_EQ(parse_method_config("c.yaml", "ours:\n  process_noise_scale: per-scene\n").ours.process_noise_scale_learning,
+            ProcessNoiseScaleLearning::kPerScene);
+  EXPECT_FALSE(parse_method_config("c.yaml", "ours:\n  process_noise_scale: auto\n").ours.process_noise_scale_learning);
+  EXPECT_FALSE(MethodConfig{}.ours.process_noise_scale_learning.has_value());
   EXPECT_EQ(error_of("ours:\n  registration_range_scale_sigma: -0.01\n"),
             "c.yaml:2: ours.registration_range_scale_sigma must be a finite number >= 0");
   EXPECT_EQ(error_of("ours:\n  registration_range_scale_sigma: [0.01, 0.02]\n"),

@@ -107,7 +107,8 @@ TEST(NamedMethodRun, PartsOfAnySizeGiveTheWholeRunsEstimates) {
 // lowering a scene's start) lowers them too.
 TEST(NamedMethodRun, ScalesAcrossScenesDoNotDependOnTheParts) {
   const std::string prior = "ours:\n  registration_translation_sigma_m: 0.1\n  registration_noise_ratio: 0.5\n";
-  const MethodConfig per_scene = parse_method_config("c.yaml", prior + "  registration_prior_scale: per-scene\n");
+  const MethodConfig per_scene =
+      parse_method_config("c.yaml", prior + "  registration_prior_scale: per-scene\n  process_noise_scale: per-scene\n");
   MethodRunReport own_report;
   const std::vector<Gaussian3> own = run_named_method("ours", per_scene, &model(), "model.pt", many_scenes(), &own_report);
   const auto median_translation = [](const MethodRunReport& report) {
@@ -119,7 +120,8 @@ TEST(NamedMethodRun, ScalesAcrossScenesDoNotDependOnTheParts) {
     return translation[translation.size() / 2];
   };
   for (const std::string pooled : {"registration_prior_scale: across-scenes", "registration_prior_scale: shrink-across-scenes",
-                                   "registration_prior_scale: per-scene\n  process_noise_scale: across-scenes"}) {
+                                   "registration_prior_scale: per-scene\n  process_noise_scale: across-scenes",
+                                   "registration_prior_scale: per-scene\n  process_noise_scale: grow-across-scenes"}) {
     const MethodConfig across = parse_method_config("c.yaml", prior + "  " + pooled + "\n");
     MethodRunReport whole_report;
     const std::vector<Gaussian3> whole = run_named_method("ours", across, &model(), "model.pt", many_scenes(), &whole_report);
@@ -140,22 +142,24 @@ TEST(NamedMethodRun, ScalesAcrossScenesDoNotDependOnTheParts) {
   }
 }
 
-// Q's scales are learned across scenes when set so, and by default for a model trained on several
-// benchmarks (one Q for several kinds of motion), not for a model of one.
-TEST(NamedMethodRun, LearnsQAcrossScenesForAModelOfSeveralBenchmarks) {
+// Q's scales are learned across scenes, by default below 1 too for a model trained on several
+// benchmarks (one Q for several kinds of motion), and held at 1 and above for a model of one (its Q
+// calibrated on its kind of data); as set otherwise.
+TEST(NamedMethodRun, LearnsQAcrossScenesBelowItsCalibrationOnlyForAModelOfSeveralBenchmarks) {
+  using enum ProcessNoiseScaleLearning;
   const nlohmann::json several = {{"benchmark", {"mpl", "cad"}}};
   const nlohmann::json one = {{"benchmark", "mpl"}};
   const OursSettings automatic;
-  EXPECT_TRUE(learns_process_noise_across_scenes(automatic, several));
-  EXPECT_FALSE(learns_process_noise_across_scenes(automatic, one));
-  EXPECT_FALSE(learns_process_noise_across_scenes(automatic, nlohmann::json::object()));
-  EXPECT_FALSE(learns_process_noise_across_scenes(automatic, {{"benchmark", {"mpl"}}}));
-  OursSettings per_scene;
-  per_scene.process_noise_scale_across_scenes = false;
-  EXPECT_FALSE(learns_process_noise_across_scenes(per_scene, several));
-  OursSettings across;
-  across.process_noise_scale_across_scenes = true;
-  EXPECT_TRUE(learns_process_noise_across_scenes(across, one));
+  EXPECT_EQ(process_noise_scale_learning_for(automatic, several), kAcrossScenes);
+  EXPECT_EQ(process_noise_scale_learning_for(automatic, one), kGrowAcrossScenes);
+  EXPECT_EQ(process_noise_scale_learning_for(automatic, nlohmann::json::object()), kGrowAcrossScenes);
+  EXPECT_EQ(process_noise_scale_learning_for(automatic, {{"benchmark", {"mpl"}}}), kGrowAcrossScenes);
+  for (const ProcessNoiseScaleLearning learning : {kPerScene, kAcrossScenes, kGrowAcrossScenes}) {
+    OursSettings set;
+    set.process_noise_scale_learning = learning;
+    EXPECT_EQ(process_noise_scale_learning_for(set, several), learning);
+    EXPECT_EQ(process_noise_scale_learning_for(set, one), learning);
+  }
 }
 
 // The registration prior's scales by default: where the sensors move, learned across scenes from the
