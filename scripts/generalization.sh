@@ -206,9 +206,10 @@ de_nees_restarts() {  # method, model, folder -> "DE / NEES | restarts"
   echo "on and only while they beat constant velocity under the same Q, constant velocity's beyond."
   echo "Tracks whose history is spaced wider than Φ's curve reaches, or unseen for longer than Φ's"
   echo "horizon, coast by constant velocity up to twice the longest interval calibrated (design §1.9)."
-  echo "On both validation splits constant velocity already wins every 2nd frame (mpl 0.0708 m against"
-  echo "Φ's 0.0749 m, cad 0.79 against 0.91 m: the training logs print both), so Φ forecasts only from"
-  echo "histories at about the training rate. Against them, models trained the same way (8 epochs, seed"
+  echo "On both validation splits Φ wins every 2nd and 3rd frame (mpl 0.0613 and 0.0874 m against"
+  echo "constant velocity's 0.0700 and 0.0906 m, cad 0.75 and 0.84 against 0.80 and 0.87 m: the training logs"
+  echo "print both; trained without \`--rotate\`, constant velocity won already every 2nd frame), so Φ"
+  echo "forecasts from histories spaced up to three frames apart. Against them, models trained the same way (8 epochs, seed"
   echo "1, 2 threads, \`--portable\`) with \`--long-intervals 0\`: Q calibrated at the training rate and"
   echo "grown as the interval squared, and a track unseen for longer than Φ's horizon starts again."
   echo "DE (m) / NEES mean, and the tracks that started again (\`stgf run\`'s log)."
@@ -284,24 +285,30 @@ cat >> "$out/generalization.md" <<'NOTES'
 - **The models above calibrate Q at longer intervals** (`stgf train`'s default, the last table):
   where the data's frames are further apart than Φ's curve reaches, tracks coast by constant
   velocity with a Q measured at those intervals, and the coasting Q has its own online scale
-  (design §1.2). So with the mpl model on ETH/UCY (2.5 Hz, every track coasts) `ours-motion-off`
-  equals `ours`, and `ours-fixed-q` shows what that scale does: NEES 3.40 → 3.12, DE 0.0975 →
-  0.0967 m (before the forecasts counted the error of the velocity read off the history, design §1.2,
-  the scale did most of that work: NEES 5.11 → 3.48).
+  (design §1.2). mpl's model, trained with `--rotate` (design §1.1), forecasts by Φ up to three of
+  its frames (0.43 s), so on ETH/UCY (2.5 Hz) too, with the vertical Q of PETS 2009's flat ground;
+  `ours-fixed-q` shows what Q's scale, learned across the run's scenes, does there: NEES 38.7 → 3.06,
+  DE 0.1342 → 0.0978 m (learned per scene, each of ETH/UCY's 12-step scenes alone, NEES was 5.1 on
+  its validation split: design §1.2). With the model trained without `--rotate`, whose calibration
+  handed those intervals to constant velocity, every track coasted and the scale took NEES 3.40 →
+  3.12.
 - **ETH/UCY with a model from other data.** Both the mpl model (pedestrians at 7 Hz) and the cad
-  model (vehicles at 10 Hz) now beat `wls` and `mmt` on the eth scene (0.0967 and 0.1022 against
-  0.1032 m), the mpl model with NEES 3.12, the cad model 1.68 (below); and the mpl model beats
-  them by 8–11 % on every other scene held out (the last table), NEES 2.97–3.29 (3.28–3.54 until the
-  forecasts counted the history's velocity error, design §1.2). What helps there is the
-  coasting prediction with an honest Q, not Φ, which forecasts only from histories at about its own
-  training rate; on eth the mpl model's registration handling costs 0.7 % (`ours-registration-off`
-  0.0960 m) for a covariance that means something (NEES 3.68 without it), on the held-out scenes 1–2 %. To gain from Φ itself, train it on data like yours
+  model (vehicles at 10 Hz) now beat `wls` and `mmt` on the eth scene (0.0978 and 0.1023 against
+  0.1032 m), the mpl model with NEES 3.06, the cad model 1.68 (below); and the mpl model beats
+  them by 8–12 % on every other scene held out (the last table), NEES 3.00–3.33 (3.28–3.54 until the
+  forecasts counted the history's velocity error, design §1.2). What helps there is an honest Q
+  more than Φ (`ours-motion-off`, Φ always: 0.0981 m on eth); the mpl model's registration
+  handling costs 0.8 % on eth (`ours-registration-off` 0.0970 m) for a covariance that means
+  something (NEES 3.54 without it), on the held-out scenes 1–2 %. To gain from Φ itself, train it on data like yours
   (`stgf dataset` or your own benchmark folder, then `stgf train`).
 - Cameras 3 and 5 times worse calibrated than the training benchmark's: with the prior the model
-  calibrated, `ours-fixed-prior` trusts the offsets' estimates too much (NEES 8.2 and 18.7). `ours`
+  calibrated, `ours-fixed-prior` trusts the offsets' estimates too much (NEES 8.3 and 19.1). `ours`
   scales the prior per scene from what the views disagree on (`stgf run` logs the scales over the
-  scenes: κ's medians 10.9 and 33.5 here, against the true 9 and 25) and is more accurate still:
-  0.0633 and 0.0935 m, NEES 3.02 and 3.32 (x, y 2.27 and 2.55, where 2 is right; z 0.75 and 0.77).
+  scenes: κ's medians 10.9 and 33.7 here, against the true 9 and 25) and is more accurate still:
+  0.0635 and 0.0950 m, NEES 3.13 and 3.46 (x, y 2.28 and 2.58, where 2 is right; z 0.85 and 0.88).
+  Trained without `--rotate` (design §1.1), mpl's model had the heights too uncertain here (z 0.75
+  and 0.77), which hid part of the ground positions' overconfidence (NEES 3.02 and 3.32, DE 0.0633
+  and 0.0935 m).
   mpl's model is calibrated per axis of the rays with a range scale (`stgf train`'s default on one
   benchmark of cameras), the shape a camera's tilt, pan and height errors give, and on cameras it
   expects that shape, learning its size (design §1.7). Until then (one α, and each scene free to
@@ -321,9 +328,13 @@ cat >> "$out/generalization.md" <<'NOTES'
   docs/results.md's asynchronous splits, and scored as they are, from two frame periods on): no two
   views ever measure a pedestrian at the same time, so the views are compared within each track's
   frame, their measurements moved along its predicted path to one time (design §1.7,
-  `stgf/core/frame_alignment.hpp`). `ours` is at 0.0718 and 0.1019 m against `mmt`'s 0.4127 and
-  0.6328 m (`wls` fuses one view at a time there), with NEES 3.08 and 3.40 (`ours-fixed-prior`, the
-  prior as calibrated: 6.26 and 12.02; x, y 2.21 and 2.48, z 0.87 and 0.91). Until the forecasts
+  `stgf/core/frame_alignment.hpp`). `ours` is at 0.0698 and 0.1017 m against `mmt`'s 0.4127 and
+  0.6328 m (`wls` fuses one view at a time there), with NEES 3.29 and 3.66 (`ours-fixed-prior`, the
+  prior as calibrated: 6.26 and 10.58; x, y 2.18 and 2.49, z 1.10 and 1.17): at 5× above 3.5, the
+  ground positions as overconfident as on one clock and the heights, which mpl's model trained with
+  `--rotate` forecasts by Φ with PETS 2009's flat-ground Q, now a little too certain (trained without
+  it, whose forecasts there were constant velocity's: 0.0718 and 0.1019 m, NEES 3.08 and 3.40, z 0.87
+  and 0.91). Until the forecasts
   counted the error of the velocity read off the history (design §1.2) these were 0.0753 and 0.1078
   m, NEES 3.82 and 4.24, the heights too certain (z 1.4 and 1.5): between a track's single-view events
   its prediction's error is taken as independent increments where Φ's error within a frame is one
@@ -344,20 +355,24 @@ cat >> "$out/generalization.md" <<'NOTES'
 - **Q calibrated at longer intervals** (the last table, against models trained with
   `--long-intervals 0`). At 1 Hz `ours-l` is then a real one-second prediction (0.26 m, NEES 3.1), where before
   it was the measurement itself. Where the data is unlike mpl's, handing the wider-spaced histories
-  to constant velocity is what counts: at a third of mpl's rate `ours` loses 0.7 % and is as honest
-  (0.0448 m / NEES 2.82 against 0.0445 / 2.81), `ours-l` gains 22 % (0.106 against 0.137 m); on ETH/UCY the mpl model's `ours`
-  goes from 5–9 % below `wls`, NEES 3.4–4.6, to 6–11 % below it on all five scenes, NEES 3.0–3.3.
-  At mpl's own rate nothing changes. On cad it gains 0.1 % at 10 Hz (0.3246 against
-  0.3249) and 2.2 % (0.3509 against 0.3588) at 2 frames/s.
+  to constant velocity is what counted for mpl's model trained without `--rotate`: at a third of
+  mpl's rate `ours-l` gained 22 % (0.106 against 0.137 m), and on ETH/UCY `ours` went from 5–9 %
+  below `wls`, NEES 3.4–4.6, to 6–11 % below it on all five scenes, NEES 3.0–3.3. Trained with it,
+  Φ reaches those intervals itself (its calibration hands only four frames and more to constant
+  velocity), and the two tie there (`ours` at a third of the rate 0.0419 / 2.50 against 0.0418 /
+  2.47, `ours-l` 0.0991 against 0.0988 m; ETH/UCY within 0.1 %). At mpl's own rate nothing changes.
+  On cad it changes nothing at 10 Hz (0.3229 against 0.3228) and gains 1.3 % (0.3493 against 0.3540)
+  at 2 frames/s.
 - **Constant velocity where Φ does not fit** (design §1.13; compare `ours` with `ours-motion-off`).
   With Q calibrated at longer intervals Φ forecasts only from histories at about its training rate,
-  and the per-scene choice changes little in these tables (at most 0.6 % either way: it costs
-  mpl's splits up to 0.6 %, 0.0317 against 0.0315 m with Φ always without calibration error, and gains the cad split turned by 90° 0.3 %). It mattered with
+  and the per-scene choice changes little in these tables (at most 1 % either way: it gains the 5×
+  split 1.0 %, 0.0950 against 0.0960 m with Φ always, and ETH/UCY's univ scene 0.9 %, and costs
+  mpl's splits up to 0.3 %). It mattered with
   the earlier models: on ETH/UCY's eth scene the mpl model trained with `--long-intervals 0` went
   from 0.1379 to 0.1174 m with it (NEES 30.7 → 13.1; 2026-11-23, before Q's scale learned from the
   views' combined innovation), still behind `wls`.
-- **cad at 2 frames/s** (5 s scenes, every fifth step of KITTI's 10 Hz): `ours` 0.3509 m, NEES 2.68, against
-  `wls` 0.4868 and `mmt` 0.4845. `ours-l` is poor there (0.62 m): at 0.5 s per frame a
+- **cad at 2 frames/s** (5 s scenes, every fifth step of KITTI's 10 Hz): `ours` 0.3493 m, NEES 2.67, against
+  `wls` 0.4868 and `mmt` 0.4845. `ours-l` is poor there (0.61 m): at 0.5 s per frame a
   track's second frame is predicted with no velocity. cad's validation scenes are 1 s long, so its
   coasting Q is calibrated to 0.4 s only; a track unseen for one frame (1 s) coasts all the same,
   with that Q grown as τ³ and scaled by its own innovations (design §1.5: a track starts again only
@@ -366,11 +381,11 @@ cat >> "$out/generalization.md" <<'NOTES'
   which has no coasting Q to cross a frame with). The cad benchmark's training and validation scenes are too short to train or
   calibrate at such intervals.
 - **Without any calibration error** only Φ can help, and only where it predicts better than the
-  measurements alone: on the mpl test split with perfectly calibrated cameras `ours` is 24 % below
-  `wls` (0.0317 against 0.0420 m; NEES 2.56), though the offsets it allows for cost it 1.3 % there
-  (`ours-registration-off` 0.0313 m, NEES 2.83); on cad at 2 frames/s without GPS
-  errors it is 4.0 % ahead of `mmt` (0.1954 against 0.2035 m, NEES 2.74), 0.4 % behind
-  `ours-registration-off` (0.1947, NEES 2.94): the registration prior, calibrated with GPS errors,
+  measurements alone: on the mpl test split with perfectly calibrated cameras `ours` is 29 % below
+  `wls` (0.0297 against 0.0420 m; NEES 2.57), though the offsets it allows for cost it 1.7 % there
+  (`ours-registration-off` 0.0292 m, NEES 2.85); on cad at 2 frames/s without GPS
+  errors it is 5.0 % ahead of `mmt` (0.1933 against 0.2035 m, NEES 2.73), 0.3 % behind
+  `ours-registration-off` (0.1927, NEES 2.93): the registration prior, calibrated with GPS errors,
   is scaled down from the views' disagreements by the run's scenes together (κ_t, κ_n and κ_v
   medians at most 0.02; design §1.7). Learned per scene, as until 2026-11-28, the few disagreements of a
   scene at 2 frames/s kept κ near 1 (median 0.30) and `ours` tied `wls` (0.2064 m, NEES 1.37), behind
@@ -378,25 +393,24 @@ cat >> "$out/generalization.md" <<'NOTES'
 - **`stgf run` says when the registration prior does not fit** (design §1.7; the logs under the
   tables). It spoke on the cases whose registration differs most from the training data's — 0×, 3× and
   5× the calibration error (synchronised or not), cad without GPS errors, ETH/UCY's eth scene with
-  cad's model — and on cad at 2 frames/s, where the run's scenes size the offsets along and across
-  the rays apart and find them unlike one α (it suggests α at most (0.168, 2.73, 0.156) along,
-  across and vertical to the rays; calibrated per axis against the truth cad's is (0.00, 2.82, 0.00),
-  design §1.7); and on four of ETH/UCY's five scenes with mpl's model (κ's medians 0.40–0.45, the
+  cad's model — and on four of ETH/UCY's five scenes with mpl's model (κ's medians 0.40–0.45, the
   offsets of ETH/UCY's simulated cameras smaller than PETS 2009's, and without the rotation and
-  height errors that mpl's shape holds); not on other frame rates, a distant origin, turned scenes or
-  cad's longer scenes. Its suggestions land near the proxies' truth: at 3× σ (0.081, 0.064) m, α
-  (1.08, 2.43) along and across the rays and a range scale of 0.029, where 3× the calibration is
-  (0.074, 0.058) m, (0.97, 2.17) and 0.026; at 5× (0.142, 0.113) m, (1.89, 4.23) and 0.051 against
-  (0.123, 0.097) m, (1.62, 3.62) and 0.044.
-- **The world frame's heading.** Turned by 90° about the vertical, the mpl test split gains 1.3 %
-  (0.0377 against 0.0382; it was 0.0386 both ways until the forecasts counted the history's velocity
-  error, design §1.2: mpl's model is not trained with `--rotate`, and how much its forecasts are
-  trusted now weighs how well they fit each frame), the cad one 0.2 % (0.3241 against 0.3246), though 83 % of cad's
-  training motion runs along +x. The registration's offset in noise units reaches each measurement
-  through R's Cholesky factor along its own ray (design §1.1, §1.7), which turns with the world
-  frame; with the factor in the world's axes the turned splits lost 1.8 % and 2.5 %, and a `--rotate`
-  model no less. A cad model trained with `--rotate` gives 0.3229 on the split as given and 0.3225
-  turned: what is left on mpl is Φ's. The general model is trained with `--rotate` (below).
+  height errors that mpl's shape holds); not on other frame rates, a distant origin, turned scenes,
+  cad's longer scenes or cad at 2 frames/s. Its suggestions land near the proxies' truth: at 3× σ
+  (0.073, 0.073) m, α (1.08, 2.43) along and across the rays and a range scale of 0.029, where 3× the
+  calibration is (0.067, 0.067) m (σ_x = σ_y: a model trained with `--rotate` knows no heading),
+  (0.97, 2.17) and 0.026; at 5× (0.129, 0.129) m, (1.89, 4.24) and 0.051 against (0.111, 0.111) m,
+  (1.62, 3.62) and 0.044.
+- **The world frame's heading.** Turned by 90° about the vertical, the mpl test split is within
+  0.3 % of the split as given (0.0366 against 0.0367) and the cad one within 0.1 % (0.3225 against
+  0.3229), though 83 % of cad's training motion runs along +x: `stgf train` turns every training
+  scene by a random heading each epoch (`--rotate`, the default since 2026-12-02; design §1.1).
+  Trained with `--no-rotate` (the tables above), mpl's model is 1.0 % better turned than as given
+  (0.0380 against 0.0384) and cad's 0.2 % (0.3241 against 0.3248), and both are less accurate than
+  the rotated models (4.6 % and 0.6 % on the splits as given): Φ had learned the training frame's
+  axes. The registration's offset in noise units reaches each measurement through R's Cholesky
+  factor along its own ray (design §1.1, §1.7), which turns with the world frame; with the factor in
+  the world's axes the turned splits lost 1.8 % and 2.5 %, rotated model or not.
 - Moving the world origin 4000 km away changes nothing: the table is that of docs/results.md's
   mpl test split (the filter works in relative coordinates and starts its tracks from the
   measurements, not from a prior at the origin).

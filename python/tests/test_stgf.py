@@ -268,9 +268,15 @@ class TestLearned(unittest.TestCase):
             stgf.run_file("ours", measurements, py_out, model=model)
             with open(cli_out) as a, open(py_out) as b:
                 self.assertEqual(a.read(), b.read())
-            # The streaming filter, fed scene by scene, gives the same estimates.
+            # The streaming filter, fed scene by scene, gives the same estimates as a run whose scenes
+            # each learn Q's scales alone (by default a run's later scenes start from its earlier ones').
+            per_scene = os.path.join(d, "per-scene.yaml")
+            with open(per_scene, "w") as f:
+                f.write("ours:\n  process_noise_scale: per-scene\n")
+            per_scene_out = os.path.join(d, "ours-per-scene.csv")
+            stgf.run_file("ours", measurements, per_scene_out, model=model, config=per_scene)
             m = stgf.read_measurements(measurements)
-            batch = stgf.read_estimates(py_out)
+            batch = stgf.read_estimates(per_scene_out)
             for scene in sorted(set(m["scene"])):
                 rows = [k for k, s in enumerate(m["scene"]) if s == scene]
                 f = stgf.Filter(model)

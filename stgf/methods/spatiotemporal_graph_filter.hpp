@@ -19,6 +19,11 @@
 //     still until a view's sensor position has moved 0.5 m: sensor_motion.hpp), unless options.sensors
 //     says; the registration prior's shape is expected to hold on sensors of the kind it was
 //     calibrated on (registration_prior_scale.hpp). stgf run knows each scene's from all its rows.
+//   - It is one scene: Q's scales λ and the registration prior's scales are learned from its own
+//     measurements (FilterOptions' process_noise_start and registration_scale_start take what other
+//     scenes said). stgf run pools them over a file's scenes (`process_noise_scale`,
+//     `registration_prior_scale`), so its estimates of a file's later scenes can differ from this
+//     filter's fed each scene alone.
 //   - Times are seconds on one clock shared by the views (stamp each message with its measurement
 //     time, not its arrival time); they need not be regular.
 //   - Bad input throws std::invalid_argument and changes nothing: a non-finite time, a (view, object)
