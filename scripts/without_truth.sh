@@ -87,31 +87,33 @@ cat >> "$doc" <<'NOTES'
 ## Reading the numbers
 
 - **Within 10 % of the truth-trained model on both** (issue 11's target): on mpl `ours (no truth)`
-  is 2.6 % less accurate (0.0392 against 0.0382 m) with NEES 3.13; on cad 3.4 % less accurate
-  (0.3357 against 0.3246 m) with NEES 2.79 (until the vehicles learned their offsets' along- and
+  is 1.6 % less accurate (0.0373 against 0.0367 m) with NEES 2.92; on cad 3.8 % less accurate
+  (0.3353 against 0.3229 m) with NEES 2.74 (both trained with `--rotate`, stgf train's default since
+  2026-12-02: 2.6 % and 3.4 % before; until the vehicles learned their offsets' along- and
   across-ray sizes apart, design §1.7, the truth-trained model was at 0.3396 and the other 0.8 %
   ahead of it).
 - **The registration prior from the disagreements** on mpl (α per axis and a range scale, the
-  default for one benchmark of cameras, design §1.7) matches the truth's translation σ (0.0251, 0.0191,
-  0) m against (0.0245, 0.0195, 0), and α across the rays, 0.72 both, but not along them: 6.61 and a
+  default for one benchmark of cameras, design §1.7) matches the truth's translation σ (0.0223, 0.0223,
+  0) m against (0.0222, 0.0222, 0) (σ_x = σ_y: a model trained with `--rotate` knows no heading), and
+  α across the rays, 0.72 both, but not along them: 6.61 and a
   range scale of 0.087 against 0.32 and 0.0087. Differences of views cannot tell an offset along the
   ray in units of the noise from one in proportion to range (both grow with distance along the same
   ray), and the disagreements' maximum sits far along that ridge; run with it, the truth-trained
-  model is 0.0395 m (NEES 3.13), and the model trained without truth with the truth's prior 0.0380:
+  model is 0.0379 m (NEES 3.18), and the model trained without truth with the truth's prior 0.0361:
   here too the prior, not Φ, makes the difference. (With one α, as until 2026-11-28, the two fits
-  agreed: σ (0.039, 0.025, 0) against (0.034, 0.021, 0) m, α 0.49 both.) On cad the translation σ agree (0.31, 0.37 against 0.32, 0.32 m) but α is 0.01 against 1.10. cad's
+  agreed: σ (0.039, 0.025, 0) against (0.034, 0.021, 0) m, α 0.49 both.) On cad the translation σ agree (0.34 against 0.32 m) but α is 0.01 against 1.10. cad's
   offsets are GPS pose errors: a position error, and a heading error that moves a measurement by
   its range times the angle, across the line of sight. stgf's offset model (a translation, and an
   offset in units of the view's own noise, design §1.7) describes the heading part only roughly,
   and the two fits settle that approximation differently. That is where cad's difference comes
-  from: the truth-trained model with the prior from the disagreements gives 0.3357 m with NEES 3.03,
-  and the model trained without truth, run with the truth's prior, 0.3247 m: Φ learnt from
+  from: the truth-trained model with the prior from the disagreements gives 0.3344 m with NEES 3.04,
+  and the model trained without truth, run with the truth's prior, 0.3239 m: Φ learnt from
   measurements predicts as well as Φ learnt from the truth, and the prior's α is what differs (with
   the run's evidence the along- and across-ray offsets are scaled apart, which α = 1.10 leaves room
   for and α = 0.01 does not).
 - **Q**: calibrated inside the filter against the fused measurements, with their covariance taken
-  out, the predictions' NEES on the validation split ends at 2.62 (mpl) and 2.51 (cad), and the test
-  NEES of `ours (no truth)` is 3.13 and 2.79.
+  out, the predictions' NEES on the validation split ends at 2.53 (mpl) and 2.30 (cad), and the test
+  NEES of `ours (no truth)` is 2.92 and 2.74.
 - The benchmarks' measurements are simulated with exactly the noise their R states, so the fused
   measurement is an honest target here; with sensors whose R understates their noise, Q and the
   prior come out too small (design §1.14).
