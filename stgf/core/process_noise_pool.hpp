@@ -13,11 +13,11 @@
 // that start as before.
 //
 // Assumption: the run's scenes share how far their motion departs from Q (the same λ fits them all,
-// up to what each scene's own innovations add). Where the scenes start from that sum, λ may fall
-// below 1 or is held at 1 and above (ProcessNoiseScale's `below_one`; the caller's choice,
-// `process_noise_scale: across-scenes` or `grow-across-scenes`). The summed evidence of many scenes holds λ near its
+// up to what each scene's own innovations add). The summed evidence of many scenes holds λ near its
 // maximum-likelihood value over the run; a scene whose motion is harder than the rest's still widens
-// its own Q, since λ only grows from there as its innovations demand.
+// its own Q, since λ only grows from there as its innovations demand. Started from that sum, λ may
+// fall below 1 or is held at 1 and above (ProcessNoiseScale's `below_one`: the caller's choice,
+// `process_noise_scale: across-scenes` or `grow-across-scenes`).
 
 #include <cstddef>
 #include <optional>
