@@ -30,12 +30,12 @@ std::optional<ProcessNoiseEvidence> ProcessNoisePool::evidence_for(std::size_t s
   return std::move(before.evidence);
 }
 
-ProcessNoisePool::Scales ProcessNoisePool::scales(bool below_one) const {
+ProcessNoisePool::Scales ProcessNoisePool::scales() const {
   const ProcessNoiseEvidence sum = sums_.all().evidence;
-  const auto of = [below_one](const ProcessNoiseScale::Grid& grid) -> std::optional<Vector3d> {
+  const auto of = [this](const ProcessNoiseScale::Grid& grid) -> std::optional<Vector3d> {
     for (const auto& axis : grid) {
       for (const double value : axis) {
-        if (value != 0.0) return ProcessNoiseScale(grid, below_one).scales();
+        if (value != 0.0) return ProcessNoiseScale(grid, below_one_).scales();
       }
     }
     return std::nullopt;

@@ -37,20 +37,25 @@ struct ProcessNoiseEvidence {
 
 class ProcessNoisePool {
  public:
+  // `below_one`: whether the scenes that start from the pool may take λ below 1 (false: held at 1 and
+  // above, Q at least as calibrated).
+  explicit ProcessNoisePool(bool below_one = true) : below_one_(below_one) {}
+  bool below_one() const { return below_one_; }
   // Adds the evidence of the scene at `scene_index` in the list. Scenes must come in list order of epochs.
   void add(std::size_t scene_index, const ProcessNoiseEvidence& evidence);
   // What the scene at `scene_index` starts from: the sum over the scenes of the epochs before its own;
   // none in the first epoch.
   std::optional<ProcessNoiseEvidence> evidence_for(std::size_t scene_index) const;
   // λ̂ of each of the three scales from every scene added so far: what the run's scenes together said
-  // of Q (`below_one` false: held at 1 and above, as the scenes were); none for a scale no innovation
+  // of Q, held at 1 and above where the scenes were (below_one()); none for a scale no innovation
   // taught (e.g. Φ's where every track coasted).
   struct Scales {
     std::optional<Vector3d> followed, fallback, coasting;
   };
-  Scales scales(bool below_one = true) const;
+  Scales scales() const;
 
  private:
+  bool below_one_;
   EpochSums<ProcessNoiseEvidence> sums_;
 };
 

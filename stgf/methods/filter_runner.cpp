@@ -221,7 +221,7 @@ FilterRun run_spatiotemporal_graph_filter(const MotionPredictor& predictor, cons
     count = same_kind;
     if (pools.process_noise != nullptr) {
       block_options.process_noise_pooled = true;
-      block_options.process_noise_below_one = pools.process_noise_below_one;
+      block_options.process_noise_below_one = pools.process_noise->below_one();
       if (auto start = pools.process_noise->evidence_for(global)) {
         block_options.process_noise_start = std::make_shared<const ProcessNoiseEvidence>(std::move(*start));
       }

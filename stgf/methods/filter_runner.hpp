@@ -63,10 +63,9 @@ struct ScenePools {
   // pool's evidence for its place in the list (or, lowered only, from its estimate) and adds its own.
   PerSensorMotion<RegistrationScalePool*> registration;
   // Q's scales (process_noise_pool.hpp): each scene starts them from the pool's evidence for its place
-  // in the list, learns on from its own innovations, and adds what they said; below 1 too, or
-  // (`process_noise_below_one` false) held at 1 and above.
+  // in the list (below 1 too, or held at 1 and above: ProcessNoisePool::below_one), learns on from its
+  // own innovations, and adds what they said.
   ProcessNoisePool* process_noise = nullptr;
-  bool process_noise_below_one = true;
 };
 
 // Throws std::invalid_argument when some rows have an arrival time and others not.

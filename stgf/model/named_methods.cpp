@@ -106,6 +106,10 @@ NamedMethodRun::NamedMethodRun(const std::string& method, const MethodConfig& co
                                                   : RegistrationScalePool::Use::kLowerOnly);
       }
     }
+    const ProcessNoiseScaleLearning learning = process_noise_scale_learning_for(config_.ours, model_->metadata());
+    if (learning != ProcessNoiseScaleLearning::kPerScene) {
+      process_noise_scales_.emplace(/*below_one=*/learning == ProcessNoiseScaleLearning::kAcrossScenes);
+    }
   }
 }
 
@@ -126,11 +130,9 @@ std::vector<Gaussian3> NamedMethodRun::add(std::span<const Measurement> rows) {
     std::optional<RegistrationScalePool>& scales = registration_scales_[sensors];
     return scales ? &*scales : nullptr;
   };
-  const ProcessNoiseScaleLearning learning = process_noise_scale_learning_for(config_.ours, model_->metadata());
   const ScenePools pools{
       .registration = {.fixed = pool(SensorMotion::kFixed), .moving = pool(SensorMotion::kMoving)},
-      .process_noise = learning == ProcessNoiseScaleLearning::kPerScene ? nullptr : &process_noise_scales_,
-      .process_noise_below_one = learning == ProcessNoiseScaleLearning::kAcrossScenes};
+      .process_noise = process_noise_scales_ ? &*process_noise_scales_ : nullptr};
   FilterRun run = run_spatiotemporal_graph_filter(*model_, options, rows, /*keep_predictions=*/prediction_only, pools, scenes_);
   scenes_ += run.scenes;
   part.restarted_tracks = run.restarted_tracks;
@@ -141,9 +143,7 @@ std::vector<Gaussian3> NamedMethodRun::add(std::span<const Measurement> rows) {
   part.gating = std::move(run.gating);
   part.registration_prior_scales = std::move(run.registration_prior_scales);
   part.motion_choice = run.motion_choice;
-  if (pools.process_noise != nullptr) {
-    part.process_noise_scales_across_scenes = process_noise_scales_.scales(pools.process_noise_below_one);
-  }
+  if (process_noise_scales_) part.process_noise_scales_across_scenes = process_noise_scales_->scales();
   report_.add(part);
   if (prediction_only) {
     for (std::size_t row = 0; row < rows.size(); ++row) {

@@ -117,7 +117,7 @@ class NamedMethodRun {
   // (none where each scene learns its own: registration_scale_learning_for), Q's (used where
   // process_noise_scale_learning_for), and how many scenes came before the next part.
   PerSensorMotion<std::optional<RegistrationScalePool>> registration_scales_;
-  ProcessNoisePool process_noise_scales_;
+  std::optional<ProcessNoisePool> process_noise_scales_;
   std::size_t scenes_ = 0;
 };
 

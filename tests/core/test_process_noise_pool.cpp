@@ -63,13 +63,18 @@ TEST(ProcessNoisePool, ReportsTheScalesTheScenesTaught) {
   EXPECT_FALSE(scales.fallback.has_value());
   ASSERT_TRUE(scales.coasting.has_value());
   EXPECT_EQ(*scales.coasting, Vector3d::Constant(4.0));
-  // Held at 1 and above, as scenes that may not fall below their calibration were.
+  // Held at 1 and above, as the scenes of a pool that may not fall below their calibration were.
+  ProcessNoisePool held(/*below_one=*/false);
+  EXPECT_TRUE(pool.below_one());
+  EXPECT_FALSE(held.below_one());
+  held.add(0, coasting_only);
   ProcessNoiseEvidence smaller;
   for (auto& axis : smaller.followed) axis[ProcessNoiseScale::kUnitPoint - 4] = 100.0;  // λ = 1/4
   pool.add(1, smaller);
+  held.add(1, smaller);
   EXPECT_EQ(*pool.scales().followed, Vector3d::Constant(0.25));
-  EXPECT_EQ(*pool.scales(/*below_one=*/false).followed, Vector3d::Ones());
-  EXPECT_EQ(*pool.scales(/*below_one=*/false).coasting, Vector3d::Constant(4.0));
+  EXPECT_EQ(*held.scales().followed, Vector3d::Ones());
+  EXPECT_EQ(*held.scales().coasting, Vector3d::Constant(4.0));
 }
 
 }  // namespace
