@@ -47,11 +47,16 @@ void check_shape(const Array& array, const char* name, std::vector<py::ssize_t> 
   bool ok = array.ndim() == static_cast<py::ssize_t>(shape.size());
   for (std::size_t k = 0; ok && k < shape.size(); ++k) ok = array.shape(static_cast<py::ssize_t>(k)) == shape[k];
   if (ok) return;
-  std::string wanted = "(";
-  for (std::size_t k = 0; k < shape.size(); ++k) wanted += (k ? ", " : "") + std::to_string(shape[k]);
-  std::string got = "(";
-  for (py::ssize_t k = 0; k < array.ndim(); ++k) got += (k ? ", " : "") + std::to_string(array.shape(k));
-  throw std::invalid_argument(std::string(name) + " has shape " + got + ") where " + wanted + ") was expected");
+  const auto listed = [](const auto& sizes) {
+    std::string text = "(";
+    for (std::size_t k = 0; k < sizes.size(); ++k) {
+      if (k > 0) text += ", ";
+      text += std::to_string(sizes[k]);
+    }
+    return text + ")";
+  };
+  const std::vector<py::ssize_t> got(array.shape(), array.shape() + array.ndim());
+  throw std::invalid_argument(std::string(name) + " has shape " + listed(got) + " where " + listed(shape) + " was expected");
 }
 
 // n strings from a str (repeated) or a sequence of n str.

@@ -331,7 +331,9 @@ TEST(RegistrationPriorScale, LearnsTheVerticalOffsetsScaleApart) {
         log_sum += std::log(scales.vertical / truth.vertical);
       }
     }
-    if (truth.vertical > 0.0) EXPECT_LT(std::abs(log_sum / seeds), std::log(1.3));
+    if (truth.vertical > 0.0) {
+      EXPECT_LT(std::abs(log_sum / seeds), std::log(1.3));
+    }
   }
 }
 
