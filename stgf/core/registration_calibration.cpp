@@ -47,6 +47,12 @@ void leave_out_range_scale(std::vector<GroupStatistics>& groups) {
 constexpr double kLowest = -4.0;                            // log10 of the smallest σ or α
 constexpr Parameters kHighest = {1.5, 1.5, 1.5, 2.0, 2.0, 2.0, 0.0};  // σ_ε up to 1 (100 %)
 
+// GCC 12 cannot see that group.size ≤ kOffsetSize below and warns that Eigen's packet loads of
+// information.head(group.size) may read past the vector (-Warray-bounds, a false positive).
+#if defined(__GNUC__) && !defined(__clang__)
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Warray-bounds"
+#endif
 double log_likelihood(const std::vector<GroupStatistics>& groups, const Parameters& parameters) {
   Eigen::Matrix<double, kOffsetSize, 1> information;
   for (int k = 0; k < kOffsetSize; ++k) information[k] = std::pow(10.0, -2.0 * parameters[k]);
@@ -64,6 +70,9 @@ double log_likelihood(const std::vector<GroupStatistics>& groups, const Paramete
   }
   return total;
 }
+#if defined(__GNUC__) && !defined(__clang__)
+#pragma GCC diagnostic pop
+#endif
 
 // The coordinates a search coordinate sets: itself, or with one α for all three axes, α's three.
 int last_of(int coordinate, NoiseRatioAxes axes) {
