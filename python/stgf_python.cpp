@@ -437,6 +437,21 @@ py::list evaluate_files(const std::string& truth, const std::vector<std::string>
     py::dict by_views;
     for (const auto& [views, summary] : score.by_views) by_views[py::int_(views)] = summary_to_dict(summary);
     method["by_views"] = by_views;
+    py::dict by_variance;  // per axis: each octave [2^k, 2^(k+1)) m² of the stated variance that holds a row
+    for (int a = 0; a < 3; ++a) {
+      py::list bins;
+      for (const VarianceBin& bin : score.by_variance[a]) {
+        py::dict entry;
+        entry["variance_from"] = std::ldexp(1.0, bin.octave);
+        entry["variance_to"] = std::ldexp(1.0, bin.octave + 1);
+        entry["rows"] = bin.rows;
+        entry["mean_variance"] = bin.mean_variance;
+        entry["mean_squared_error"] = bin.mean_squared_error;
+        bins.append(entry);
+      }
+      by_variance[py::str(std::string(1, "xyz"[a]))] = bins;
+    }
+    method["by_variance"] = by_variance;
     out.append(method);
   }
   return out;

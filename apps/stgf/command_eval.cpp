@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: Apache-2.0
 // stgf eval --truth T --estimates E [E2 ...] [--measurements M] [--from-step K | --from-time S] [--json OUT]
+//           [--by-variance x,y,z]
 //
 // The files are read scene by scene when they are grouped by scene in one order, else whole
 // (stgf/io/evaluation_files.hpp); the numbers are the same either way.
@@ -23,6 +24,7 @@ struct EvalOptions {
   std::string measurements;
   ScoringStart start;
   std::string json;
+  std::vector<std::string> by_variance;  // axes: x, y, z
 };
 
 void eval(const EvalOptions& options) {
@@ -39,7 +41,11 @@ void eval(const EvalOptions& options) {
                  read_whole_because);
   }
   if (!options.json.empty()) write_text_file(options.json, evaluation_json(evaluation).dump(2) + "\n");
-  std::fputs(evaluation_markdown(evaluation).c_str(), stdout);
+  std::string text = evaluation_markdown(evaluation);
+  for (const std::string& axis : options.by_variance) {
+    text += error_by_variance_markdown(evaluation, static_cast<int>(axis[0] - 'x'));
+  }
+  std::fputs(text.c_str(), stdout);
 }
 
 }  // namespace
@@ -64,6 +70,12 @@ void add_eval_command(CLI::App& app) {
       ->check(CLI::NonNegativeNumber)
       ->excludes(from_step);
   command->add_option("--json", options->json, "also write the results as JSON here");
+  command
+      ->add_option("--by-variance", options->by_variance,
+                   "also print, per axis given (x, y, z), each octave of the stated variance with the squared error's "
+                   "mean over it: 1 in every octave where the covariance means what it says (the JSON always has it)")
+      ->delimiter(',')
+      ->check(CLI::IsMember({"x", "y", "z"}));
   command->callback([options] { eval(*options); });
 }
 

@@ -223,6 +223,17 @@ class TestFilesAndMethods(unittest.TestCase):
         self.assertAlmostEqual(direct["nees_mean"], scores[0]["nees_mean"], places=5)
         self.assertAlmostEqual(direct["nees_horizontal_mean"], scores[0]["nees_horizontal_mean"], places=5)
         self.assertAlmostEqual(direct["nees_vertical_mean"], scores[0]["nees_vertical_mean"], places=5)
+        # The error by stated variance: the rows binned by the octave of P_zz, each bin's mean r_z².
+        variances = estimates["covariance"][:, 2, 2]
+        squared = (estimates["mean"][:, 2] - truth[:, 2]) ** 2
+        octaves = np.floor(np.log2(variances))
+        bins = scores[0]["by_variance"]["z"]
+        self.assertEqual(sum(b["rows"] for b in bins), scores[0]["rows"])
+        self.assertEqual([b["variance_from"] for b in bins], [2.0 ** k for k in sorted(set(octaves))])
+        for b in bins:
+            in_bin = octaves == np.log2(b["variance_from"])
+            self.assertEqual(b["rows"], int(in_bin.sum()))
+            self.assertAlmostEqual(b["mean_squared_error"], squared[in_bin].mean(), places=8)
 
     def test_learned_method_without_a_model_uses_the_general_model(self):
         shipped = stgf.general_model()

@@ -164,9 +164,10 @@ Evaluation evaluate(const TruthFile& truth, const std::vector<EstimateFile>& est
 
   for (const auto& [method, method_rows] : methods) {
     const EstimateFile& file = *method_rows.file;
-    MethodScore score{method, file.path, {}, {}};
+    MethodScore score{method, file.path, {}, {}, {}};
     ErrorAccumulator overall;
     std::map<int, ErrorAccumulator> by_views;
+    ErrorByVariance by_variance;
     std::unordered_map<std::string, bool> seen;
     for (std::size_t k : method_rows.rows) {
       const Estimate& row = file.rows[k];
@@ -188,6 +189,7 @@ Evaluation evaluate(const TruthFile& truth, const std::vector<EstimateFile>& est
       if (entry->second.excluded) continue;
       overall.add(row.position, *truth_position, entry->second.sensor);
       by_views[entry->second.views].add(row.position, *truth_position, entry->second.sensor);
+      by_variance.add(row.position, *truth_position);
     }
     if (seen.size() != reference.size()) {
       const ReferenceRow* first_missing = nullptr;
@@ -201,6 +203,7 @@ Evaluation evaluate(const TruthFile& truth, const std::vector<EstimateFile>& est
     }
     score.overall = overall.summary();
     for (const auto& [views, accumulator] : by_views) score.by_views[views] = accumulator.summary();
+    score.by_variance = by_variance.bins();
     evaluation.methods.push_back(std::move(score));
   }
   return evaluation;
@@ -228,7 +231,7 @@ bool SceneScores::add(const TruthFile& truth, const std::vector<EstimateFile>& e
       auto method = std::find_if(methods_.begin(), methods_.end(), [&](const Method& m) { return m.name == name; });
       if (method == methods_.end()) {
         if (!first_scene_) return false;
-        methods_.push_back(Method{name, file, {}, {}});
+        methods_.push_back(Method{name, file, {}, {}, {}});
         rows_of.emplace_back();
         method = methods_.end() - 1;
       } else if (method->file != file) {
@@ -278,6 +281,7 @@ bool SceneScores::add(const TruthFile& truth, const std::vector<EstimateFile>& e
       if (entry->second.excluded) continue;
       method.overall.add(row.position, *truth_position, entry->second.sensor);
       method.by_views[entry->second.views].add(row.position, *truth_position, entry->second.sensor);
+      method.by_variance.add(row.position, *truth_position);
     }
     if (seen.size() != reference.size()) return false;
   }
@@ -288,7 +292,7 @@ std::optional<Evaluation> SceneScores::result() const {
   if (methods_.empty()) return std::nullopt;
   Evaluation evaluation = evaluation_;
   for (const Method& method : methods_) {
-    MethodScore score{method.name, estimate_paths_.at(method.file), method.overall.summary(), {}};
+    MethodScore score{method.name, estimate_paths_.at(method.file), method.overall.summary(), {}, method.by_variance.bins()};
     for (const auto& [views, accumulator] : method.by_views) score.by_views[views] = accumulator.summary();
     evaluation.methods.push_back(std::move(score));
   }

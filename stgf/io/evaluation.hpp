@@ -1,7 +1,8 @@
 // SPDX-License-Identifier: Apache-2.0
 #pragma once
 // Scores estimate files against the truth (DESIGN §4): DE, REL-DE and NEES per method, overall
-// and by the number of views that saw the object.
+// and by the number of views that saw the object, and each axis's squared error against its stated
+// variance (error_by_variance.hpp).
 //
 // Every method is scored on the same rows. The reference rows are the measurements when given
 // (each measured (scene, t, view, object) must have exactly one estimate from every method), or
@@ -24,11 +25,13 @@
 // file at a time (`stgf eval` reads its files so when they are grouped by scene in one order:
 // evaluation_files.hpp). Each method's rows are added up in file order, as evaluate() adds them.
 
+#include <array>
 #include <map>
 #include <optional>
 #include <string>
 #include <vector>
 
+#include "stgf/core/error_by_variance.hpp"
 #include "stgf/core/metrics.hpp"
 #include "stgf/io/estimate_file.hpp"
 #include "stgf/io/measurement_file.hpp"
@@ -41,6 +44,8 @@ struct MethodScore {
   std::string file;
   ErrorSummary overall;
   std::map<int, ErrorSummary> by_views;  // number of views that saw the object at that step
+  // Per axis (x, y, z): the squared error against the stated variance, in octaves of the variance.
+  std::array<std::vector<VarianceBin>, 3> by_variance{};
 };
 
 struct ScoringStart {
@@ -89,6 +94,7 @@ class SceneScores {
     std::size_t file = 0;  // index into the estimate paths
     ErrorAccumulator overall;
     std::map<int, ErrorAccumulator> by_views;
+    ErrorByVariance by_variance;
   };
 
   std::vector<std::string> estimate_paths_;

@@ -1,8 +1,10 @@
 // SPDX-License-Identifier: Apache-2.0
 #include "stgf/io/evaluation_report.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <set>
+#include <stdexcept>
 
 #include <fmt/format.h>
 
@@ -27,7 +29,53 @@ nlohmann::json summary_json(const ErrorSummary& summary) {
           {"nees_vertical_mean", number_or_null(summary.nees_vertical_mean)}};
 }
 
+nlohmann::json by_variance_json(const std::array<std::vector<VarianceBin>, 3>& axes) {
+  nlohmann::json json = nlohmann::json::object();
+  for (int a = 0; a < 3; ++a) {
+    nlohmann::json bins = nlohmann::json::array();
+    for (const VarianceBin& bin : axes[a]) {
+      bins.push_back({{"variance_from", std::ldexp(1.0, bin.octave)},
+                      {"variance_to", std::ldexp(1.0, bin.octave + 1)},
+                      {"rows", bin.rows},
+                      {"mean_variance", bin.mean_variance},
+                      {"mean_squared_error", bin.mean_squared_error}});
+    }
+    json[std::string(1, "xyz"[a])] = bins;
+  }
+  return json;
+}
+
 }  // namespace
+
+std::string error_by_variance_markdown(const Evaluation& evaluation, int axis) {
+  if (axis < 0 || axis > 2) throw std::invalid_argument("error_by_variance_markdown: axis must be 0, 1 or 2");
+  const char name = "xyz"[axis];
+  std::set<int> octaves;
+  for (const MethodScore& score : evaluation.methods) {
+    for (const VarianceBin& bin : score.by_variance[axis]) octaves.insert(bin.octave);
+  }
+  std::string text = fmt::format(
+      "\nr_{0}² / P_{0}{0} by stated variance P_{0}{0} (1 in every bin where the covariance means what it says; "
+      "the bin's rows in brackets):\n\n| P_{0}{0} (m²) |",
+      name);
+  std::string rule = "|---|";
+  for (const MethodScore& score : evaluation.methods) {
+    text += fmt::format(" {} |", score.method);
+    rule += "---:|";
+  }
+  text += "\n" + rule + "\n";
+  for (int octave : octaves) {
+    text += fmt::format("| {:.2e} – {:.2e} |", std::ldexp(1.0, octave), std::ldexp(1.0, octave + 1));
+    for (const MethodScore& score : evaluation.methods) {
+      const auto& bins = score.by_variance[axis];
+      const auto bin = std::find_if(bins.begin(), bins.end(), [&](const VarianceBin& b) { return b.octave == octave; });
+      text += bin == bins.end() ? std::string(" – |")
+                                : fmt::format(" {:.2f} ({}) |", bin->mean_squared_error / bin->mean_variance, bin->rows);
+    }
+    text += "\n";
+  }
+  return text;
+}
 
 std::string evaluation_markdown(const Evaluation& evaluation) {
   std::string text;
@@ -70,7 +118,8 @@ nlohmann::json evaluation_json(const Evaluation& evaluation) {
     methods.push_back({{"method", score.method},
                        {"estimates", score.file},
                        {"overall", summary_json(score.overall)},
-                       {"by_views", by_views}});
+                       {"by_views", by_views},
+                       {"by_variance", by_variance_json(score.by_variance)}});
   }
   return {{"truth", evaluation.truth_file},
           {"measurements", evaluation.measurements_file.empty() ? nlohmann::json(nullptr)

@@ -422,6 +422,18 @@ TEST_F(Cli, RunThenEval) {
   EXPECT_EQ(both.status, 2);
   EXPECT_THAT(both.err, HasSubstr("--from-time"));
   EXPECT_EQ(stgf("eval --truth t.csv --measurements m.csv --estimates wls.csv --from-time -1").status, 2);
+
+  // The error by stated variance, on request, per axis asked for; the JSON has every axis's.
+  const Result by_variance = stgf("eval --truth t.csv --measurements m.csv --estimates aom.csv wls.csv --by-variance z,x");
+  ASSERT_EQ(by_variance.status, 0) << by_variance.err;
+  EXPECT_THAT(by_variance.out, HasSubstr("| P_zz (m²) | aom | wls |"));
+  EXPECT_THAT(by_variance.out, HasSubstr("| P_xx (m²) | aom | wls |"));
+  EXPECT_LT(by_variance.out.find("P_zz (m²)"), by_variance.out.find("P_xx (m²)"));
+  EXPECT_THAT(eval.out, Not(HasSubstr("(m²)")));
+  EXPECT_THAT(slurp(directory_ / "r.json"), HasSubstr("\"by_variance\""));
+  const Result bad_axis = stgf("eval --truth t.csv --measurements m.csv --estimates wls.csv --by-variance w");
+  EXPECT_EQ(bad_axis.status, 2);
+  EXPECT_THAT(bad_axis.err, HasSubstr("--by-variance"));
 }
 
 // The clock options of `stgf dataset`: an asynchronous benchmark with latencies that `run` and `eval

@@ -69,6 +69,45 @@ TEST(Evaluation, HandComputedScores) {
   EXPECT_EQ(json["methods"][0]["by_views"]["2"]["rows"].get<int>(), 2);
 }
 
+TEST(Evaluation, ErrorByVarianceBinsEachAxisByTheOctaveOfItsStatedVariance) {
+  // Method a's errors along y: 0 (stated 9, octave 3), 4 (stated 4, octave 2), 1 (stated 1, octave 0).
+  // Method b states 2 (octave 1) everywhere and is exact.
+  const std::string method_b = kHeader +
+                               "s,0,v1,o,0,0,0,2,0,0,2,0,2,b\n"
+                               "s,0,v2,o,0,0,0,2,0,0,2,0,2,b\n"
+                               "s,1,v1,o,1,0,0,2,0,0,2,0,2,b\n";
+  const MeasurementFile measurements = parse_measurements("m.csv", kMeasurements);
+  const Evaluation evaluation = evaluate(parse_truth("t.csv", kTruth),
+                                         {parse_estimates("a.csv", kMethodA), parse_estimates("b.csv", method_b)},
+                                         &measurements, 0);
+  const auto& y = evaluation.methods[0].by_variance[1];
+  ASSERT_EQ(y.size(), 3u);
+  EXPECT_EQ(y[0].octave, 0);
+  EXPECT_DOUBLE_EQ(y[0].mean_squared_error, 1.0);
+  EXPECT_EQ(y[1].octave, 2);
+  EXPECT_DOUBLE_EQ(y[1].mean_squared_error, 16.0);
+  EXPECT_EQ(y[2].octave, 3);
+  EXPECT_DOUBLE_EQ(y[2].mean_variance, 9.0);
+
+  const std::string table = error_by_variance_markdown(evaluation, 1);
+  EXPECT_THAT(table, HasSubstr("| P_yy (m²) | a | b |"));
+  EXPECT_THAT(table, HasSubstr("| 1.00e+00 – 2.00e+00 | 1.00 (1) | – |\n"
+                               "| 2.00e+00 – 4.00e+00 | – | 0.00 (3) |\n"
+                               "| 4.00e+00 – 8.00e+00 | 4.00 (1) | – |\n"
+                               "| 8.00e+00 – 1.60e+01 | 0.00 (1) | – |\n"));
+  EXPECT_THROW(error_by_variance_markdown(evaluation, 3), std::invalid_argument);
+
+  const nlohmann::json bins = evaluation_json(evaluation)["methods"][0]["by_variance"]["y"];
+  ASSERT_EQ(bins.size(), 3u);
+  EXPECT_EQ(bins[1]["variance_from"].get<double>(), 4.0);
+  EXPECT_EQ(bins[1]["variance_to"].get<double>(), 8.0);
+  EXPECT_EQ(bins[1]["rows"].get<int>(), 1);
+  EXPECT_EQ(bins[1]["mean_squared_error"].get<double>(), 16.0);
+  // Scored rows only: from step 1 on, one row in each of a's axes.
+  const Evaluation later = evaluate(parse_truth("t.csv", kTruth), {parse_estimates("a.csv", kMethodA)}, &measurements, 1);
+  EXPECT_EQ(later.methods[0].by_variance[1].size(), 1u);
+}
+
 TEST(Evaluation, FromStepLeavesOutEarlyStepsForEveryMethod) {
   const MeasurementFile measurements = parse_measurements("m.csv", kMeasurements);
   const Evaluation evaluation =
