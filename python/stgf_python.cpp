@@ -56,7 +56,8 @@ void check_shape(const Array& array, const char* name, std::vector<py::ssize_t> 
     return text + ")";
   };
   const std::vector<py::ssize_t> got(array.shape(), array.shape() + array.ndim());
-  throw std::invalid_argument(std::string(name) + " has shape " + listed(got) + " where " + listed(shape) + " was expected");
+  throw std::invalid_argument(std::string(name) + " has shape " + listed(got) + " where " + listed(shape) +
+                              " was expected");
 }
 
 // n strings from a str (repeated) or a sequence of n str.

@@ -292,7 +292,8 @@ std::optional<Evaluation> SceneScores::result() const {
   if (methods_.empty()) return std::nullopt;
   Evaluation evaluation = evaluation_;
   for (const Method& method : methods_) {
-    MethodScore score{method.name, estimate_paths_.at(method.file), method.overall.summary(), {}, method.by_variance.bins()};
+    MethodScore score{method.name, estimate_paths_.at(method.file), method.overall.summary(), {},
+                      method.by_variance.bins()};
     for (const auto& [views, accumulator] : method.by_views) score.by_views[views] = accumulator.summary();
     evaluation.methods.push_back(std::move(score));
   }

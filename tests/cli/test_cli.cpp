@@ -424,7 +424,8 @@ TEST_F(Cli, RunThenEval) {
   EXPECT_EQ(stgf("eval --truth t.csv --measurements m.csv --estimates wls.csv --from-time -1").status, 2);
 
   // The error by stated variance, on request, per axis asked for; the JSON has every axis's.
-  const Result by_variance = stgf("eval --truth t.csv --measurements m.csv --estimates aom.csv wls.csv --by-variance z,x");
+  const Result by_variance =
+      stgf("eval --truth t.csv --measurements m.csv --estimates aom.csv wls.csv --by-variance z,x");
   ASSERT_EQ(by_variance.status, 0) << by_variance.err;
   EXPECT_THAT(by_variance.out, HasSubstr("| P_zz (m²) | aom | wls |"));
   EXPECT_THAT(by_variance.out, HasSubstr("| P_xx (m²) | aom | wls |"));

@@ -57,7 +57,9 @@ TEST(ErrorByVariance, RightCovariancesGiveARatioNearOneInEveryBin) {
     const double variance = std::exp2(-10.0 + 4.0 * uniform());
     // Box–Muller: one standard normal per axis.
     Vector3d error;
-    for (int a = 0; a < 3; ++a) error[a] = std::sqrt(-2.0 * std::log(uniform())) * std::cos(2.0 * std::numbers::pi * uniform());
+    for (int a = 0; a < 3; ++a) {
+      error[a] = std::sqrt(-2.0 * std::log(uniform())) * std::cos(2.0 * std::numbers::pi * uniform());
+    }
     bins.add(estimate(std::sqrt(variance) * error, Vector3d::Constant(variance)), Vector3d::Zero());
   }
   for (const auto& axis : bins.bins()) {

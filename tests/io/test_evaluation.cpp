@@ -104,7 +104,8 @@ TEST(Evaluation, ErrorByVarianceBinsEachAxisByTheOctaveOfItsStatedVariance) {
   EXPECT_EQ(bins[1]["rows"].get<int>(), 1);
   EXPECT_EQ(bins[1]["mean_squared_error"].get<double>(), 16.0);
   // Scored rows only: from step 1 on, one row in each of a's axes.
-  const Evaluation later = evaluate(parse_truth("t.csv", kTruth), {parse_estimates("a.csv", kMethodA)}, &measurements, 1);
+  const Evaluation later =
+      evaluate(parse_truth("t.csv", kTruth), {parse_estimates("a.csv", kMethodA)}, &measurements, 1);
   EXPECT_EQ(later.methods[0].by_variance[1].size(), 1u);
 }
 
