@@ -443,8 +443,8 @@ py::list evaluate_files(const std::string& truth, const std::vector<std::string>
       py::list bins;
       for (const VarianceBin& bin : score.by_variance[a]) {
         py::dict entry;
-        entry["variance_from"] = std::ldexp(1.0, bin.octave);
-        entry["variance_to"] = std::ldexp(1.0, bin.octave + 1);
+        entry["variance_from"] = bin.variance_from();
+        entry["variance_to"] = bin.variance_to();
         entry["rows"] = bin.rows;
         entry["mean_variance"] = bin.mean_variance;
         entry["mean_squared_error"] = bin.mean_squared_error;

@@ -9,6 +9,7 @@
 // (design.md §1.2).
 
 #include <array>
+#include <cmath>
 #include <cstddef>
 #include <map>
 #include <vector>
@@ -22,6 +23,9 @@ struct VarianceBin {
   std::size_t rows = 0;
   double mean_variance = 0.0;       // of P̂_aa
   double mean_squared_error = 0.0;  // of r_a²
+
+  double variance_from() const { return std::ldexp(1.0, octave); }  // 2^k m²
+  double variance_to() const { return std::ldexp(1.0, octave + 1); }
 };
 
 class ErrorByVariance {

@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <map>
 #include <set>
 #include <stdexcept>
 
@@ -34,8 +35,8 @@ nlohmann::json by_variance_json(const std::array<std::vector<VarianceBin>, 3>& a
   for (int a = 0; a < 3; ++a) {
     nlohmann::json bins = nlohmann::json::array();
     for (const VarianceBin& bin : axes[a]) {
-      bins.push_back({{"variance_from", std::ldexp(1.0, bin.octave)},
-                      {"variance_to", std::ldexp(1.0, bin.octave + 1)},
+      bins.push_back({{"variance_from", bin.variance_from()},
+                      {"variance_to", bin.variance_to()},
                       {"rows", bin.rows},
                       {"mean_variance", bin.mean_variance},
                       {"mean_squared_error", bin.mean_squared_error}});
@@ -50,9 +51,9 @@ nlohmann::json by_variance_json(const std::array<std::vector<VarianceBin>, 3>& a
 std::string error_by_variance_markdown(const Evaluation& evaluation, int axis) {
   if (axis < 0 || axis > 2) throw std::invalid_argument("error_by_variance_markdown: axis must be 0, 1 or 2");
   const char name = "xyz"[axis];
-  std::set<int> octaves;
+  std::map<int, VarianceBin> octaves;  // every method's octaves, each with its bounds
   for (const MethodScore& score : evaluation.methods) {
-    for (const VarianceBin& bin : score.by_variance[axis]) octaves.insert(bin.octave);
+    for (const VarianceBin& bin : score.by_variance[axis]) octaves.emplace(bin.octave, bin);
   }
   std::string text = fmt::format(
       "\nr_{0}² / P_{0}{0} by stated variance P_{0}{0} (1 in every bin where the covariance means what it says; "
@@ -64,8 +65,8 @@ std::string error_by_variance_markdown(const Evaluation& evaluation, int axis) {
     rule += "---:|";
   }
   text += "\n" + rule + "\n";
-  for (int octave : octaves) {
-    text += fmt::format("| {:.2e} – {:.2e} |", std::ldexp(1.0, octave), std::ldexp(1.0, octave + 1));
+  for (const auto& [octave, any] : octaves) {
+    text += fmt::format("| {:.2e} – {:.2e} |", any.variance_from(), any.variance_to());
     for (const MethodScore& score : evaluation.methods) {
       const auto& bins = score.by_variance[axis];
       const auto bin = std::find_if(bins.begin(), bins.end(), [&](const VarianceBin& b) { return b.octave == octave; });
