@@ -66,10 +66,11 @@ std::string error_by_variance_markdown(const Evaluation& evaluation, int axis) {
   }
   text += "\n" + rule + "\n";
   for (const auto& [octave, any] : octaves) {
+    const int wanted = octave;  // a named copy: clang 14 cannot capture a structured binding
     text += fmt::format("| {:.2e} – {:.2e} |", any.variance_from(), any.variance_to());
     for (const MethodScore& score : evaluation.methods) {
       const auto& bins = score.by_variance[axis];
-      const auto bin = std::find_if(bins.begin(), bins.end(), [&](const VarianceBin& b) { return b.octave == octave; });
+      const auto bin = std::find_if(bins.begin(), bins.end(), [&](const VarianceBin& b) { return b.octave == wanted; });
       text += bin == bins.end() ? std::string(" – |")
                                 : fmt::format(" {:.2f} ({}) |", bin->mean_squared_error / bin->mean_variance, bin->rows);
     }
