@@ -3,7 +3,9 @@
 // A symmetric 3×3 matrix with its eigenvalues raised to a floor: the nearest covariance (floor 0) or
 // a covariance kept away from singular (floor > 0) to a moment estimate that rounding or sampling left
 // indefinite — Q's calibration (learn/), the history's velocity error (object_track.hpp).
+// And a change of a covariance that may take variance away, held so that the sum stays one.
 
+#include <Eigen/Cholesky>
 #include <Eigen/Eigenvalues>
 
 #include "stgf/core/gaussian.hpp"
@@ -15,6 +17,18 @@ inline Matrix3d with_eigenvalues_at_least(const Matrix3d& matrix, double floor) 
   const Eigen::SelfAdjointEigenSolver<Matrix3d> eigen(symmetrised(matrix));
   const Vector3d floored = eigen.eigenvalues().cwiseMax(floor);
   return eigen.eigenvectors() * floored.asDiagonal() * eigen.eigenvectors().transpose();
+}
+
+// `change`, or, where it would take more than half of `covariance`'s least variance away, the change
+// that leaves covariance + change with its eigenvalues raised to that half: a prediction that is more
+// certain than the state it came from (object_track.hpp: a forecast that brings a height back toward
+// its history's) never makes the state's covariance singular. A covariance `change` is returned as it is.
+inline Matrix3d grown_within(const Matrix3d& covariance, const Matrix3d& change) {
+  if (Eigen::LDLT<Matrix3d>(change).isPositive()) return change;
+  const double least = Eigen::SelfAdjointEigenSolver<Matrix3d>(covariance, Eigen::EigenvaluesOnly).eigenvalues()[0];
+  const Matrix3d sum = symmetrised(covariance + change);
+  if (Eigen::SelfAdjointEigenSolver<Matrix3d>(sum, Eigen::EigenvaluesOnly).eigenvalues()[0] >= 0.5 * least) return change;
+  return symmetrised(with_eigenvalues_at_least(sum, 0.5 * least) - covariance);
 }
 
 }  // namespace stgf

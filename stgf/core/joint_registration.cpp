@@ -10,6 +10,7 @@
 
 #include "stgf/core/cholesky3.hpp"
 #include "stgf/core/dense_kernels.hpp"
+#include "stgf/core/eigenvalue_floor.hpp"
 
 namespace stgf {
 using Matrix36 = OffsetJacobian;
@@ -193,7 +194,9 @@ void JointRegistration::predict(std::string_view object, const Vector3d& displac
   const auto found = objects_.find(object);
   if (found == objects_.end()) throw std::logic_error("JointRegistration::predict: unknown object");
   found->second.mean += displacement;
-  found->second.covariance += process_noise;
+  // The motion may take variance away (a forecast more certain than the state: object_track.hpp); of P_i
+  // at most half its least variance.
+  found->second.covariance += grown_within(found->second.covariance, process_noise);
 }
 
 void JointRegistration::release_offset(std::string_view view, const Matrix3d& covariance) {

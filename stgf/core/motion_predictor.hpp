@@ -25,6 +25,12 @@ struct MotionForecast {
   Vector3d acceleration = Vector3d::Zero();  // a (m/s²)
   // f(τ) = v τ + ½ a τ²: where the object is τ seconds after its last history position, relative to it.
   Vector3d displacement(double tau) const { return velocity * tau + 0.5 * tau * tau * acceleration; }
+  // How f responds to the history's slope, per axis (slope_response.hpp): a slope error δ (m/s) on
+  // axis a moves f(τ)_a by J_a(τ) δ, J(τ) = velocity_response τ + ½ acceleration_response τ². As
+  // constant velocity's forecast does, by default: J = τ.
+  Vector3d velocity_response = Vector3d::Ones();
+  Vector3d acceleration_response = Vector3d::Zero();
+  Vector3d slope_response(double tau) const { return velocity_response * tau + 0.5 * tau * tau * acceleration_response; }
 };
 
 class MotionPredictor {

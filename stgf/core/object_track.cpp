@@ -11,6 +11,28 @@
 #include "stgf/core/eigenvalue_floor.hpp"
 
 namespace stgf {
+namespace {
+
+// w_i = (t_i − t̄) / Σ_j (t_j − t̄)² of the least-squares slope through the positions from `first` on.
+class SlopeWeights {
+ public:
+  SlopeWeights(const std::deque<TrackPoint>& history, std::size_t first) : history_(history) {
+    for (std::size_t i = first; i < history.size(); ++i) mean_time_ += history[i].time;
+    mean_time_ /= static_cast<double>(history.size() - first);
+    for (std::size_t i = first; i < history.size(); ++i) {
+      spread_ += (history[i].time - mean_time_) * (history[i].time - mean_time_);
+    }
+  }
+  bool valid() const { return spread_ > 0.0; }
+  double operator()(std::size_t i) const { return (history_[i].time - mean_time_) / spread_; }
+
+ private:
+  const std::deque<TrackPoint>& history_;
+  double mean_time_ = 0.0;
+  double spread_ = 0.0;
+};
+
+}  // namespace
 
 Vector3d ObjectTrack::last_velocity() const {
   const std::size_t n = history_.size();
@@ -26,14 +48,9 @@ Matrix3d ObjectTrack::velocity_variance(bool last_two) const {
   const std::size_t n = history_.size();
   if (n < 2) return Matrix3d::Zero();
   const std::size_t first = last_two ? n - 2 : 0;
-  double mean_time = 0.0;
-  for (std::size_t i = first; i < n; ++i) mean_time += history_[i].time;
-  mean_time /= static_cast<double>(n - first);
-  double spread = 0.0;
-  for (std::size_t i = first; i < n; ++i) spread += (history_[i].time - mean_time) * (history_[i].time - mean_time);
+  const SlopeWeights weight(history_, first);
   Matrix3d variance = Matrix3d::Zero();
-  if (!(spread > 0.0)) return variance;
-  const auto weight = [&](std::size_t i) { return (history_[i].time - mean_time) / spread; };
+  if (!weight.valid()) return variance;
   // B_j = Σ_{i>j} w_i G_i ⋯ G_{j+1}, backwards: B_{n−1} = 0, B_j = (w_{j+1} I + B_{j+1}) G_{j+1}; then
   // Var(v̂) = Σ_j (w_j² P_j + w_j (B_j P_j + (B_j P_j)ᵀ)).
   Matrix3d later = Matrix3d::Zero();  // B_j
@@ -49,12 +66,39 @@ Matrix3d ObjectTrack::velocity_variance(bool last_two) const {
   return with_eigenvalues_at_least(variance, 0.0);
 }
 
+Matrix3d ObjectTrack::velocity_position_covariance(bool last_two) const {
+  // K_n = Cov(v̂, e_n) = Σ_j w_j Cov(e_j, e_n) = Σ_j w_j P_j Π_jᵀ,  Π_j = G_n ⋯ G_{j+1}  (Π_n = I).
+  const std::size_t n = history_.size();
+  if (n < 2) return Matrix3d::Zero();
+  const std::size_t first = last_two ? n - 2 : 0;
+  const SlopeWeights weights(history_, first);
+  Matrix3d covariance = Matrix3d::Zero();
+  if (!weights.valid()) return covariance;
+  Matrix3d carried = Matrix3d::Identity();  // Π_j
+  for (std::size_t j = n; j-- > first;) {
+    if (j + 1 < n) carried = carried * history_[j + 1].carried;
+    covariance += weights(j) * history_[j].estimate.covariance() * carried.transpose();
+  }
+  return covariance;
+}
+
 Matrix3d ObjectTrack::velocity_error_to(double time, bool last_two) const {
-  // The velocity the forecast reads from the history carries the history's errors on: τ² Var(v̂), of
-  // which the state holds the part up to τ_s.
+  // The forecast carries the slope's error δv on as J δv: from the state at τ_s to τ the prediction's
+  // error is e_s + ΔJ δv, ΔJ = J(τ) − J(τ_s), and its covariance P̂_s plus
+  //     ΔJ V ΔJ + ΔJ K_s + K_sᵀ ΔJ,   V = Var(v̂),  K_s = Cov(δv, e_s) = (K_n + V J(τ_s)) G_sᵀ,
+  // G_s the share of the last history position's error (and of the slope error the predictions since
+  // added, J(τ_s) δv) that the state carries.
   const double origin = forecast_origin();
   const double tau = time - origin, tau_state = state_->time - origin;
-  return (tau * tau - tau_state * tau_state) * velocity_variance(last_two);
+  const bool carried_as_is = last_two || !forecast_;  // constant velocity's, from the last two positions
+  const Vector3d to = carried_as_is ? Vector3d::Constant(tau) : Vector3d(forecast_->slope_response(tau));
+  const Vector3d from = carried_as_is ? Vector3d::Constant(tau_state) : Vector3d(forecast_->slope_response(tau_state));
+  const Matrix3d variance = velocity_variance(last_two);
+  const Matrix3d cross =
+      (velocity_position_covariance(last_two) + variance * from.asDiagonal()) * state_->carried.transpose();
+  const Matrix3d delta = (to - from).asDiagonal();
+  const Matrix3d grown = symmetrised(delta * variance * delta + delta * cross + cross.transpose() * delta);
+  return grown_within(state_->estimate.covariance(), grown);
 }
 
 double ObjectTrack::unseen_limit(const MotionPredictor& predictor, double scene_frame_interval) const {

@@ -21,7 +21,7 @@
 // Prediction to t > t_s, along the forecast from the last history position t_h (from the track's
 // first time while it has none), with τ = t − t_h and τ_s = t_s − t_h:
 //     x = x̂_s + f(τ) − f(τ_s)
-//     P = P̂_s + D [Q(τ) − Q(τ_s)] D + (τ² − τ_s²) Var(v̂)  (+ s² (τ² − τ_s²) I while the history holds at most one position)
+//     P = P̂_s + D [Q(τ) − Q(τ_s)] D + ΔJ V ΔJ + ΔJ K_s + K_sᵀ ΔJ  (+ s² (τ² − τ_s²) I while the history holds at most one position)
 // The forecast's error grows with the time since its history position, as Q(τ); between two updates
 // along one forecast it grows by Q(τ) − Q(τ_s), so a track updated by seven unsynchronised cameras in
 // a frame period accumulates the same process noise over that period as a track updated once by
@@ -29,7 +29,8 @@
 // Q ∝ Δt², and the filter would trust its prediction seven times too much; below the calibration
 // interval Q grows linearly, so there the two agree: process_noise_curve.hpp). D = diag(√λ) is the
 // online scale of Q (process_noise_scale.hpp); s is the predictor's typical speed (the unknown
-// velocity of a short history). Q must grow with its interval, so P ⪰ P̂_s.
+// velocity of a short history). Q must grow with its interval; the slope's terms (below) may take
+// variance away.
 //
 // Var(v̂): the velocity the forecast reads from the history carries the history positions' errors, and
 // the forecast carries that velocity's error on in proportion to τ. Q, calibrated on forecasts whose
@@ -52,8 +53,23 @@
 // cancel in a slope since Σ_i w_i = 0): a Kalman filter on a random walk, test_object_track.cpp. The
 // error the forecast's own displacement adds between positions (Φ reads the positions) is not followed
 // into C: first order in the velocity's error. With a history of n equally spaced positions of independent errors,
-// Var(v̂) = 12 σ² / (n (n² − 1) Δt²): 2 σ²/Δt² for two, 0.02 σ²/Δt² for eight. Chosen on the
-// validation splits (design §1.2).
+// Var(v̂) = 12 σ² / (n (n² − 1) Δt²): 2 σ²/Δt² for two, 0.02 σ²/Δt² for eight.
+//
+// How the forecast carries the slope's error δv = v̂ − v on: f(τ) moves by J(τ) δv, J = τ I for
+// constant velocity (a track that coasts, or follows constant velocity) and Φ's own response for Φ,
+// J(τ) = diag(velocity_response τ + ½ acceleration_response τ²), measured by a second pass of Φ on its
+// histories tilted (slope_response.hpp). And δv is not independent of the state's error: the last
+// history position's error is part of both (w_n > 0), so from the state at τ_s the prediction's error
+// e_s + ΔJ δv, ΔJ = J(τ) − J(τ_s), has the covariance P̂_s + ΔJ V ΔJ + ΔJ K_s + K_sᵀ ΔJ with V = Var(v̂) and
+//     K_s = Cov(δv, e_s) = (K_n + V J(τ_s)) G_sᵀ,   K_n = Cov(δv, e_n) = Σ_j w_j P̂_j (G_n ⋯ G_{j+1})ᵀ,
+// G_s = TrackPoint::carried of the state (the share of e_n, and of the slope error J(τ_s) δv that the
+// predictions since added, that it carries on; I at a history position). Where Φ brings a height back
+// toward its history's (J_z < 0 on a ground plane), the slope's error and the state's cancel, and the
+// prediction is more certain than the state: the term is then negative, held by grown_within so that P
+// keeps at least half of P̂_s's least variance (on the validation splits that hold changed nothing
+// between a quarter and three quarters). With J = τ and τ_s = 0 the term is τ² V + τ (K_n + K_nᵀ):
+// before 2026-12-02 (second change) the filter counted τ² V alone, as if δv were independent of the
+// state, and as if Φ carried every slope on as constant velocity does. Design §1.2 has the numbers.
 
 #include <deque>
 #include <limits>
@@ -134,7 +150,7 @@ class ObjectTrack {
   // positions (zero with fewer), and Q the predictor's (motion_choice.hpp).
   struct Motion {
     Vector3d displacement;
-    Matrix3d covariance;     // D [Q(τ) − Q(τ_s)] D + (τ² − τ_s²) Var(v̂) (+ the speed term)
+    Matrix3d covariance;     // D [Q(τ) − Q(τ_s)] D + the slope's terms (+ the speed term)
     Matrix3d process_noise;  // Q(τ) − Q(τ_s)
     double interval;
   };
@@ -151,7 +167,10 @@ class ObjectTrack {
   // Var(v̂) of the least-squares velocity of the history positions (of the last two with `last_two`),
   // with their errors' correlation as each carries the one before's; zero with fewer than two.
   Matrix3d velocity_variance(bool last_two) const;
-  // (τ² − τ_s²) Var(v̂) to `time` (> state().time): what motion_to adds for it. Not for an empty track.
+  // Cov(v̂, e_n): the slope's error with the last history position's (of the last two with `last_two`).
+  Matrix3d velocity_position_covariance(bool last_two) const;
+  // ΔJ Var(v̂) ΔJ + ΔJ K_s + K_sᵀ ΔJ to `time` (> state().time): what motion_to adds for the slope's
+  // error (above). Not for an empty track. It may take variance away (held by grown_within).
   Matrix3d velocity_error_to(double time, bool last_two) const;
   // Makes (time, estimate) the state, an estimate that owes nothing to the one before (a track's start).
   void update(double time, const Gaussian3& estimate);

@@ -11,6 +11,7 @@
 #include "stgf/core/cross_view_weights.hpp"
 #include "stgf/core/multi_view_update.hpp"
 #include "stgf/core/name_index.hpp"
+#include "stgf/core/slope_response.hpp"
 
 namespace stgf {
 namespace {
@@ -370,20 +371,36 @@ bool SceneFilter::request_forecasts(const Event& event) {
       tracks.push_back(&track);
     }
   }
+  // Each graph again, its histories tilted, for Φ's response to their slopes (slope_response.hpp).
+  request_graphs_ = request_.size();
+  if (options_.history_velocity_error) {
+    request_tilts_.resize(request_graphs_);
+    for (std::size_t g = 0; g < request_graphs_; ++g) {
+      std::vector<Vector3d>& tilts = request_tilts_[g];
+      tilts.clear();
+      for (const ObjectTrack* track : request_tracks_[g]) {
+        tilts.push_back(slope_tilt(track->velocity_variance(/*last_two=*/false), predictor_.typical_speed()));
+      }
+      request_.push_back(tilted_graph(request_[g], tilts));
+    }
+  }
   return true;
 }
 
 void SceneFilter::provide_forecasts(const std::vector<std::vector<MotionForecast>>& forecasts) {
   if (forecasts.size() != request_.size()) throw std::invalid_argument("SceneFilter: one forecast list per requested graph");
   for (std::size_t g = 0; g < request_.size(); ++g) {
-    if (forecasts[g].size() != request_tracks_[g].size()) {
+    if (forecasts[g].size() != request_[g].objects.size()) {
       throw std::invalid_argument("SceneFilter: one forecast per object of each requested graph");
     }
   }
-  for (std::size_t g = 0; g < request_.size(); ++g) {
+  const bool tilted = request_.size() > request_graphs_;
+  for (std::size_t g = 0; g < request_graphs_; ++g) {
     for (std::size_t i = 0; i < request_tracks_[g].size(); ++i) {
       ObjectTrack& track = *request_tracks_[g][i];
-      if (track.needs_forecast()) track.set_forecast(forecasts[g][i]);
+      if (!track.needs_forecast()) continue;
+      track.set_forecast(tilted ? with_slope_response(forecasts[g][i], forecasts[request_graphs_ + g][i], request_tilts_[g][i])
+                                : forecasts[g][i]);
     }
   }
   request_.clear();

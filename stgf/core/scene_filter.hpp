@@ -187,7 +187,9 @@ class SceneFilter {
   // reads them, or has nothing more to give, advances through everything.
   enum class Advance { kThroughEverything, kUntilReported };
   // Processes queued events until done (true) or a forecast is needed (false: forecast_request()
-  // lists the graphs; provide_forecasts() answers them, then advance() again, the same way).
+  // lists the graphs; provide_forecasts() answers them, then advance() again, the same way). With the
+  // history's velocity error, the list holds each graph a second time, its histories tilted, for the
+  // forecasts' response to their slopes (slope_response.hpp): the predictor answers every graph alike.
   bool advance(Advance how = Advance::kThroughEverything);
   const std::vector<MotionGraph>& forecast_request() const { return request_; }
   void provide_forecasts(const std::vector<std::vector<MotionForecast>>& forecasts);
@@ -353,7 +355,9 @@ class SceneFilter {
   double latest_time_;   // of the last event processed (back to the log's end on going back)
   double reached_time_;  // the latest event time ever processed: what "too late" is measured from
   std::size_t unreported_ = 0;  // rows received (not left out) that have not reported yet
-  std::vector<MotionGraph> request_;
+  std::vector<MotionGraph> request_;  // the tracks' graphs, then (with the history's velocity error) each tilted
+  std::size_t request_graphs_ = 0;    // the tracks' graphs among request_
+  std::vector<std::vector<Vector3d>> request_tilts_;  // of each graph's objects
   std::vector<std::vector<ObjectTrack*>> request_tracks_;  // of request_'s objects (the state is not changed meanwhile)
   // A closing frame's measurements, aligned (frame_alignment.hpp): lists kept for their room.
   struct AlignedFrame {

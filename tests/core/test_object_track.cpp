@@ -13,6 +13,7 @@
 #include <Eigen/Cholesky>
 #include <Eigen/LU>
 
+#include "stgf/core/eigenvalue_floor.hpp"
 #include "support/test_predictors.hpp"
 
 namespace stgf {
@@ -73,7 +74,8 @@ class KeepsThreePositions final : public testing::ForwardingPredictor {
 };
 
 // The velocity a forecast reads from the history carries the positions' errors on (object_track.hpp):
-// (τ² − τ_s²) Var(v̂), with v̂ the least-squares slope of the positions, (P̂_1 + P̂_2) / Δt² for two.
+// ΔJ V ΔJ + ΔJ K_s + K_sᵀ ΔJ, with V = Var(v̂) of the least-squares slope of the positions, (P̂_1 + P̂_2) /
+// Δt² for two, and K_s its covariance with the state's error.
 TEST(ObjectTrack, ForecastCountsTheErrorOfTheVelocityItReadsFromTheHistory) {
   const ConstantVelocityPredictor predictor(/*q=*/2.0, /*speed=*/1.0);
   const ProcessNoiseScale scale;
@@ -85,17 +87,37 @@ TEST(ObjectTrack, ForecastCountsTheErrorOfTheVelocityItReadsFromTheHistory) {
   track.set_forecast(predictor.forecast(std::vector<MotionGraph>{
       {"s", "", 0.2, {{"o", {Vector3d(0, 0, 0), Vector3d(0.1, 0, 0)}, {0.0, 0.1}}}}})[0][0]);
   const ObjectTrack::Motion motion = track.motion_to(0.15, predictor, scale);
-  const Matrix3d velocity_error = 0.05 * 0.05 * (p1 + p2) / 0.01;
+  // τ² V + τ (K_n + K_nᵀ): the last position's error is in the slope's too, K_n = w_2 P̂_2 = P̂_2 / Δt (the
+  // positions' errors independent here).
+  EXPECT_LT((track.velocity_position_covariance(false) - p2 / 0.1).norm(), 1e-12);
+  const Matrix3d velocity_error = 0.05 * 0.05 * (p1 + p2) / 0.01 + 0.05 * 2.0 * p2 / 0.1;
   EXPECT_LT((track.velocity_error_to(0.15, false) - velocity_error).norm(), 1e-12);
   EXPECT_LT((motion.covariance - (2.0 * 0.05 * 0.05 * Matrix3d::Identity() + velocity_error)).norm(), 1e-12);
   // The prediction carries it; constant velocity's from the last two positions (the same two here).
   const TrackPrediction prediction = track.predict(0.15, predictor, scale);
   EXPECT_LT((prediction.prior.covariance() - (p2 + motion.covariance)).norm(), 1e-12);
   EXPECT_LT((track.motion_to(0.15, predictor, scale, /*constant_velocity=*/true).covariance - motion.covariance).norm(), 1e-12);
-  // Between history positions it grows by its increment: from a state at 0.15, to 0.2.
+  // From a state at 0.15 whose error owes nothing to the history (an update that kept nothing of its
+  // prior: G_s = 0), to 0.2: the slope's error from there on alone, (τ − τ_s)² V.
   track.open_frame(0.15);
   track.update(0.15, Gaussian3::from_covariance(Vector3d(0.15, 0, 0), p2));
-  EXPECT_LT((track.velocity_error_to(0.2, false) - (0.01 - 0.0025) * (p1 + p2) / 0.01).norm(), 1e-12);
+  EXPECT_LT((track.velocity_error_to(0.2, false) - 0.05 * 0.05 * (p1 + p2) / 0.01).norm(), 1e-12);
+  // A forecast that does not carry the slope on (J = 0) adds nothing for it; one that brings the
+  // position back against it (J_x = −τ) takes the last position's share of the slope's error away.
+  ObjectTrack still;
+  add_history_position(still, 0.0, Vector3d(0, 0, 0), p1, predictor);
+  add_history_position(still, 0.1, Vector3d(0.1, 0, 0), p2, predictor);
+  MotionForecast ignores;
+  ignores.velocity_response = Vector3d::Zero();
+  still.set_forecast(ignores);
+  EXPECT_EQ(still.velocity_error_to(0.15, false), Matrix3d::Zero());
+  EXPECT_LT((still.velocity_error_to(0.15, true) - velocity_error).norm(), 1e-12);  // constant velocity's: τ
+  MotionForecast reverts;
+  reverts.velocity_response = Vector3d(-1.0, 1.0, 1.0);
+  still.set_forecast(reverts);
+  const Matrix3d reverting = still.velocity_error_to(0.15, false);
+  EXPECT_NEAR(reverting(0, 0), 0.25 * (p1(0, 0) + p2(0, 0)) - p2(0, 0), 1e-12);  // 0.0125 − 0.04: negative
+  EXPECT_NEAR(reverting(1, 1), velocity_error(1, 1), 1e-12);
 
   // Three positions 0.1 s apart: w = (−5, 0, 5) per second, Var(v̂) = 25 (P̂_1 + P̂_3); the last two alone
   // (constant velocity, coasting): (P̂_2 + P̂_3) / Δt².
@@ -113,6 +135,19 @@ TEST(ObjectTrack, ForecastCountsTheErrorOfTheVelocityItReadsFromTheHistory) {
   EXPECT_EQ(one.velocity_variance(false), Matrix3d::Zero());
 }
 
+// A change of a covariance that takes variance away is held so that the sum keeps half of the
+// covariance's least variance; a covariance change passes as it is.
+TEST(ObjectTrack, AChangeThatTakesVarianceAwayKeepsHalfTheLeastVariance) {
+  const Matrix3d covariance = Vector3d(0.04, 0.01, 0.02).asDiagonal();
+  const Matrix3d growth = Vector3d(0.01, 0.0, 0.3).asDiagonal();
+  EXPECT_EQ(grown_within(covariance, growth), growth);
+  const Matrix3d small_loss = Vector3d(-0.02, 0.0, 0.0).asDiagonal();  // leaves 0.02 ≥ 0.005
+  EXPECT_EQ(grown_within(covariance, small_loss), small_loss);
+  const Matrix3d loss = Vector3d(-0.039, 0.0, 0.001).asDiagonal();  // would leave 0.001
+  const Matrix3d held = grown_within(covariance, loss);
+  EXPECT_LT((covariance + held - Matrix3d(Vector3d(0.005, 0.01, 0.021).asDiagonal())).norm(), 1e-15);
+}
+
 class KeepsEightPositions final : public testing::ForwardingPredictor {
  public:
   KeepsEightPositions() : ForwardingPredictor(2.0, 1.0, 1.0) {}
@@ -122,9 +157,15 @@ class KeepsEightPositions final : public testing::ForwardingPredictor {
 // A Kalman filter on a random walk (steps of covariance m, measurements of covariance r, dt apart), its
 // estimates the history positions of a track, run `runs` times from an error N(0, p0): the velocity
 // variance the track counts, the one measured (of the least-squares slope of the estimates' errors),
-// and the one counted with the positions' errors independent.
+// and the one counted with the positions' errors independent; the slope's error's covariance with the
+// last position's, counted and measured; and the covariance of a prediction 0.1 s on by a forecast that
+// carries the slope on (J = τ) and by one that brings it back (J = −τ), counted (P̂_n and the slope's
+// terms) and measured (of e_n ± τ δv).
 struct SlopeErrors {
   Matrix3d counted = Matrix3d::Zero(), measured = Matrix3d::Zero(), independent = Matrix3d::Zero();
+  Matrix3d counted_with_last = Matrix3d::Zero(), measured_with_last = Matrix3d::Zero();
+  Matrix3d counted_ahead = Matrix3d::Zero(), measured_ahead = Matrix3d::Zero();
+  Matrix3d counted_back = Matrix3d::Zero(), measured_back = Matrix3d::Zero();
 };
 SlopeErrors filter_random_walk(const Matrix3d& m, const Matrix3d& r, const Matrix3d& p0, int runs) {
   const KeepsEightPositions predictor;
@@ -163,8 +204,19 @@ SlopeErrors filter_random_walk(const Matrix3d& m, const Matrix3d& r, const Matri
       slope_error += w[k] * (mean - truth);
     }
     errors.measured += slope_error * slope_error.transpose() / runs;
+    const Vector3d last_error = mean - truth, ahead = last_error + 0.1 * slope_error, back = last_error - 0.1 * slope_error;
+    errors.measured_with_last += slope_error * last_error.transpose() / runs;
+    errors.measured_ahead += ahead * ahead.transpose() / runs;
+    errors.measured_back += back * back.transpose() / runs;
     if (run == 0) {  // the filter's covariances are the same on every run
       errors.counted = track.velocity_variance(/*last_two=*/false);
+      errors.counted_with_last = track.velocity_position_covariance(false);
+      const double next = (steps - 1) * dt + 0.1;
+      errors.counted_ahead = p + track.velocity_error_to(next, false);  // no forecast: J = τ
+      MotionForecast brings_back;
+      brings_back.velocity_response = -Vector3d::Ones();
+      track.set_forecast(brings_back);
+      errors.counted_back = p + track.velocity_error_to(next, false);
       for (int i = 0; i < steps; ++i) errors.independent += w[i] * w[i] * track.history()[i].estimate.covariance();
     }
   }
@@ -177,14 +229,22 @@ void expect_counted_as_measured(const SlopeErrors& errors) {
   }
   EXPECT_NEAR(errors.counted(0, 1), errors.measured(0, 1),
               0.05 * std::sqrt(errors.measured(0, 0) * errors.measured(1, 1)));
+  for (int a = 0; a < 3; ++a) {
+    EXPECT_NEAR(errors.counted_with_last(a, a), errors.measured_with_last(a, a),
+                0.05 * std::sqrt(errors.measured(a, a) * errors.measured_ahead(a, a)))
+        << "axis " << a;
+    EXPECT_NEAR(errors.counted_ahead(a, a) / errors.measured_ahead(a, a), 1.0, 0.04) << "axis " << a;
+    EXPECT_NEAR(errors.counted_back(a, a) / errors.measured_back(a, a), 1.0, 0.04) << "axis " << a;
+  }
 }
 
 // Successive history positions of a filter share their errors: each is the one before, predicted and
 // pulled toward a measurement, e_k = G_k e_{k−1} + (independent), G_k = P⁺ (P⁻)⁻¹. Var(v̂) counts that
-// correlation (object_track.hpp), on a track that starts from a measurement and on one settled. Counted
+// correlation (object_track.hpp), on a track that starts from a measurement and on one settled, and so
+// do its covariance with the last position's error and a prediction's (J = ±τ). Counted
 // independent, the slope's error is about 40 % too small on the moving axes, and once settled several
 // times too large on the heights (a tiny vertical Q, as a ground plane's: smoothed over many steps).
-TEST(ObjectTrack, VelocityVarianceCountsTheShareOfEachPositionsErrorThatTheNextCarries) {
+TEST(ObjectTrack, VelocityErrorCountsTheShareOfEachPositionsErrorThatTheNextCarries) {
   const Matrix3d m = Vector3d(0.01, 0.02, 1e-5).asDiagonal();
   Matrix3d r;
   r << 0.04, 0.01, 0.0, 0.01, 0.03, 0.0, 0.0, 0.0, 0.02;
@@ -201,6 +261,9 @@ TEST(ObjectTrack, VelocityVarianceCountsTheShareOfEachPositionsErrorThatTheNextC
   expect_counted_as_measured(settled);
   EXPECT_GT(settled.independent(2, 2), 3.0 * settled.measured(2, 2));
   EXPECT_LT(settled.independent(0, 0), 0.8 * settled.measured(0, 0));
+  // The slope's error shares the last position's: a forecast that brings the position back against
+  // the slope is more certain than the state it starts from, on every axis here.
+  for (int a = 0; a < 3; ++a) EXPECT_LT(settled.measured_back(a, a), settled.measured_ahead(a, a)) << "axis " << a;
 }
 
 TEST(ObjectTrack, CoastsAcrossOneMissedFrameAtItsOwnRateWhenThePredictorCoasts) {
