@@ -44,15 +44,15 @@ cp "$out"/figures/*.svg "$out"/figures/*.png docs/figures/
   with equal noise, one message per view and frame, and the exact Kalman filter of that model — the
   best causal estimate there is when the model is known — scored at every measured time as `ours`
   is. With 7 views at 7 Hz and q = 0.01 m²/s³, its synchronous ratios are nearest `mpl`'s
-  (`wls`/`ours` 1.51 against 1.52, `ours-l`/`ours` 1.34 against 1.42), and on unsynchronised clocks
+  (`wls`/`ours` 1.51 against 1.54, `ours-l`/`ours` 1.34 against 1.41), and on unsynchronised clocks
   it loses 12–21 % as q grows (`python3 scripts/async_bound.py --views 7 --period 0.142857 --q 0.003
   0.01 0.03 0.06 0.1`, seed 1: 1.12, 1.13, 1.17, 1.19, 1.21). Giving each view a constant
   offset, which the filter estimates with the motion, does not bring it nearer `mpl`: the
   offsets lower `wls`/`ours` (the views' mean carries them), and where `ours-l`/`ours` is near `mpl`'s
-  (1.53 against 1.42), `wls`/`ours` falls to 1.23 against 1.52 (`--q 0.03 0.1 0.3 --offset 0.03
+  (1.53 against 1.41), `wls`/`ours` falls to 1.23 against 1.54 (`--q 0.03 0.1 0.3 --offset 0.03
   0.06 --scenes 100`: offset 0.03 m, q 0.1, async/sync 1.17), so `mpl` sits nearest the rows
   without offsets. So about 1.13 is what the best
-  live estimate of such motion pays on `mpl`; `ours` pays 1.24, and the rest (about 10 %) is what a
+  live estimate of such motion pays on `mpl`; `ours` pays 1.22, and the rest (about 8 %) is what a
   better prediction within a frame could still win. Only a non-live answer (a smoother that waits for
   the rest of the frame) could come near the synchronous error.
 - **`ours-l`** is `ours`' own prediction of each row before the update at its time: the gap to
@@ -71,7 +71,7 @@ cp "$out"/figures/*.svg "$out"/figures/*.png docs/figures/
   in both directions. Ours/aom is far lower than the paper's on `mpl` (our `aom` averages in
   cameras whose ground-plane back-projection is poor at grazing angles, which every R-weighted
   method down-weights; the paper's MPL is another camera setup) and higher on `cad`. Ours/mmt is
-  0.66–0.70 here against the paper's 0.54–0.55: a smaller gain over the Kalman baseline. On `mpl`
+  0.65–0.70 here against the paper's 0.54–0.55: a smaller gain over the Kalman baseline. On `mpl`
   seven views with informative R already pin most objects down (mmt ≈ wls), leaving less for the
   motion model to add; on `cad` the GPS offset that all vehicles share — visible in the trajectory
   plot as a shift of every method's estimates — cannot be observed from their disagreement, and no

@@ -25,9 +25,10 @@ inline Matrix3d with_eigenvalues_at_least(const Matrix3d& matrix, double floor) 
 // its history's) never makes the state's covariance singular. A covariance `change` is returned as it is.
 inline Matrix3d grown_within(const Matrix3d& covariance, const Matrix3d& change) {
   if (Eigen::LDLT<Matrix3d>(change).isPositive()) return change;
-  const double least = Eigen::SelfAdjointEigenSolver<Matrix3d>(covariance, Eigen::EigenvaluesOnly).eigenvalues()[0];
+  using Eigenvalues = Eigen::SelfAdjointEigenSolver<Matrix3d>;
+  const double least = Eigenvalues(covariance, Eigen::EigenvaluesOnly).eigenvalues()[0];
   const Matrix3d sum = symmetrised(covariance + change);
-  if (Eigen::SelfAdjointEigenSolver<Matrix3d>(sum, Eigen::EigenvaluesOnly).eigenvalues()[0] >= 0.5 * least) return change;
+  if (Eigenvalues(sum, Eigen::EigenvaluesOnly).eigenvalues()[0] >= 0.5 * least) return change;
   return symmetrised(with_eigenvalues_at_least(sum, 0.5 * least) - covariance);
 }
 

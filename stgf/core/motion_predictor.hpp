@@ -30,7 +30,9 @@ struct MotionForecast {
   // constant velocity's forecast does, by default: J = τ.
   Vector3d velocity_response = Vector3d::Ones();
   Vector3d acceleration_response = Vector3d::Zero();
-  Vector3d slope_response(double tau) const { return velocity_response * tau + 0.5 * tau * tau * acceleration_response; }
+  Vector3d slope_response(double tau) const {
+    return velocity_response * tau + 0.5 * tau * tau * acceleration_response;
+  }
 };
 
 class MotionPredictor {

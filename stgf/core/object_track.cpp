@@ -13,21 +13,26 @@
 namespace stgf {
 namespace {
 
-// w_i = (t_i − t̄) / Σ_j (t_j − t̄)² of the least-squares slope through the positions from `first` on.
+// w_i = (t_i − t̄) / Σ_j (t_j − t̄)² of the least-squares slope through the positions a forecast reads:
+// the whole history, or its last two. None (valid() false) with fewer than two.
 class SlopeWeights {
  public:
-  SlopeWeights(const std::deque<TrackPoint>& history, std::size_t first) : history_(history) {
-    for (std::size_t i = first; i < history.size(); ++i) mean_time_ += history[i].time;
-    mean_time_ /= static_cast<double>(history.size() - first);
-    for (std::size_t i = first; i < history.size(); ++i) {
+  SlopeWeights(const std::deque<TrackPoint>& history, bool last_two)
+      : history_(history), first_(last_two && history.size() >= 2 ? history.size() - 2 : 0) {
+    if (history.size() < 2) return;
+    for (std::size_t i = first_; i < history.size(); ++i) mean_time_ += history[i].time;
+    mean_time_ /= static_cast<double>(history.size() - first_);
+    for (std::size_t i = first_; i < history.size(); ++i) {
       spread_ += (history[i].time - mean_time_) * (history[i].time - mean_time_);
     }
   }
   bool valid() const { return spread_ > 0.0; }
+  std::size_t first() const { return first_; }
   double operator()(std::size_t i) const { return (history_[i].time - mean_time_) / spread_; }
 
  private:
   const std::deque<TrackPoint>& history_;
+  std::size_t first_;
   double mean_time_ = 0.0;
   double spread_ = 0.0;
 };
@@ -45,12 +50,10 @@ Vector3d ObjectTrack::last_velocity() const {
 Matrix3d ObjectTrack::velocity_variance(bool last_two) const {
   // v̂ = Σ_i w_i p_i, w_i = (t_i − t̄) / Σ_j (t_j − t̄)², over the positions it reads:
   // Var(v̂) = Σ_i w_i² P_i + Σ_{i>j} w_i w_j (C_ij + C_ijᵀ), C_ij = G_i ⋯ G_{j+1} P_j.
-  const std::size_t n = history_.size();
-  if (n < 2) return Matrix3d::Zero();
-  const std::size_t first = last_two ? n - 2 : 0;
-  const SlopeWeights weight(history_, first);
+  const SlopeWeights weight(history_, last_two);
+  if (!weight.valid()) return Matrix3d::Zero();
+  const std::size_t n = history_.size(), first = weight.first();
   Matrix3d variance = Matrix3d::Zero();
-  if (!weight.valid()) return variance;
   // B_j = Σ_{i>j} w_i G_i ⋯ G_{j+1}, backwards: B_{n−1} = 0, B_j = (w_{j+1} I + B_{j+1}) G_{j+1}; then
   // Var(v̂) = Σ_j (w_j² P_j + w_j (B_j P_j + (B_j P_j)ᵀ)).
   Matrix3d later = Matrix3d::Zero();  // B_j
@@ -68,16 +71,14 @@ Matrix3d ObjectTrack::velocity_variance(bool last_two) const {
 
 Matrix3d ObjectTrack::velocity_position_covariance(bool last_two) const {
   // K_n = Cov(v̂, e_n) = Σ_j w_j Cov(e_j, e_n) = Σ_j w_j P_j Π_jᵀ,  Π_j = G_n ⋯ G_{j+1}  (Π_n = I).
-  const std::size_t n = history_.size();
-  if (n < 2) return Matrix3d::Zero();
-  const std::size_t first = last_two ? n - 2 : 0;
-  const SlopeWeights weights(history_, first);
+  const SlopeWeights weight(history_, last_two);
+  if (!weight.valid()) return Matrix3d::Zero();
+  const std::size_t n = history_.size(), first = weight.first();
   Matrix3d covariance = Matrix3d::Zero();
-  if (!weights.valid()) return covariance;
   Matrix3d carried = Matrix3d::Identity();  // Π_j
   for (std::size_t j = n; j-- > first;) {
     if (j + 1 < n) carried = carried * history_[j + 1].carried;
-    covariance += weights(j) * history_[j].estimate.covariance() * carried.transpose();
+    covariance += weight(j) * history_[j].estimate.covariance() * carried.transpose();
   }
   return covariance;
 }
@@ -92,7 +93,8 @@ Matrix3d ObjectTrack::velocity_error_to(double time, bool last_two) const {
   const double tau = time - origin, tau_state = state_->time - origin;
   const bool carried_as_is = last_two || !forecast_;  // constant velocity's, from the last two positions
   const Vector3d to = carried_as_is ? Vector3d::Constant(tau) : Vector3d(forecast_->slope_response(tau));
-  const Vector3d from = carried_as_is ? Vector3d::Constant(tau_state) : Vector3d(forecast_->slope_response(tau_state));
+  const Vector3d from =
+      carried_as_is ? Vector3d::Constant(tau_state) : Vector3d(forecast_->slope_response(tau_state));
   const Matrix3d variance = velocity_variance(last_two);
   const Matrix3d cross =
       (velocity_position_covariance(last_two) + variance * from.asDiagonal()) * state_->carried.transpose();

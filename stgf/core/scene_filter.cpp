@@ -399,8 +399,9 @@ void SceneFilter::provide_forecasts(const std::vector<std::vector<MotionForecast
     for (std::size_t i = 0; i < request_tracks_[g].size(); ++i) {
       ObjectTrack& track = *request_tracks_[g][i];
       if (!track.needs_forecast()) continue;
-      track.set_forecast(tilted ? with_slope_response(forecasts[g][i], forecasts[request_graphs_ + g][i], request_tilts_[g][i])
-                                : forecasts[g][i]);
+      const MotionForecast& forecast = forecasts[g][i];
+      track.set_forecast(tilted ? with_slope_response(forecast, forecasts[request_graphs_ + g][i], request_tilts_[g][i])
+                                : forecast);
     }
   }
   request_.clear();

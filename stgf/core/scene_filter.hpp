@@ -355,7 +355,8 @@ class SceneFilter {
   double latest_time_;   // of the last event processed (back to the log's end on going back)
   double reached_time_;  // the latest event time ever processed: what "too late" is measured from
   std::size_t unreported_ = 0;  // rows received (not left out) that have not reported yet
-  std::vector<MotionGraph> request_;  // the tracks' graphs, then (with the history's velocity error) each tilted
+  // The tracks' graphs, then (with the history's velocity error) each again, tilted.
+  std::vector<MotionGraph> request_;
   std::size_t request_graphs_ = 0;    // the tracks' graphs among request_
   std::vector<std::vector<Vector3d>> request_tilts_;  // of each graph's objects
   std::vector<std::vector<ObjectTrack*>> request_tracks_;  // of request_'s objects (the state is not changed meanwhile)

@@ -108,7 +108,9 @@ std::vector<SceneFilter::Result> filter_two_objects(const MotionPredictor& predi
         for (std::size_t i = 0; i < request[0].objects.size(); ++i) {
           const ObjectHistory& history = request[0].objects[i];
           EXPECT_EQ(request[1].objects[i].positions.back(), history.positions.back());
-          if (history.positions.size() >= 2) EXPECT_NE(request[1].objects[i].positions.front(), history.positions.front());
+          if (history.positions.size() >= 2) {
+            EXPECT_NE(request[1].objects[i].positions.front(), history.positions.front());
+          }
         }
       }
       filter.provide_forecasts(predictor.forecast(request));
