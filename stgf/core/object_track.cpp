@@ -37,6 +37,39 @@ class SlopeWeights {
   double spread_ = 0.0;
 };
 
+// The slope's error over the positions it reads, v̂ = Σ_j w_j p_j, in one backward walk of the history:
+//   V   = Var(v̂)     = Σ_j (w_j² P_j + w_j (B_j P_j + (B_j P_j)ᵀ)),  B_j = Σ_{i>j} w_i G_i ⋯ G_{j+1},
+//   K_n = Cov(v̂, e_n) = Σ_j w_j P_j Π_jᵀ,                            Π_j = G_n ⋯ G_{j+1}  (Π_n = I),
+// with C_ij = G_i ⋯ G_{j+1} P_j the correlation of two positions' errors; backwards, B_{n−1} = 0,
+// B_j = (w_{j+1} I + B_{j+1}) G_{j+1} and Π_j = Π_{j+1} G_{j+1}. Zero with fewer than two positions.
+struct SlopeError {
+  Matrix3d variance = Matrix3d::Zero();             // V
+  Matrix3d position_covariance = Matrix3d::Zero();  // K_n
+};
+
+SlopeError slope_error(const std::deque<TrackPoint>& history, bool last_two) {
+  SlopeError error;
+  const SlopeWeights weight(history, last_two);
+  if (!weight.valid()) return error;
+  const std::size_t n = history.size(), first = weight.first();
+  Matrix3d later = Matrix3d::Zero();       // B_j
+  Matrix3d carried = Matrix3d::Identity();  // Π_j
+  for (std::size_t j = n; j-- > first;) {
+    if (j + 1 < n) {
+      later = (weight(j + 1) * Matrix3d::Identity() + later) * history[j + 1].carried;
+      carried = carried * history[j + 1].carried;
+    }
+    const Matrix3d& p_j = history[j].estimate.covariance();
+    const Matrix3d cross = weight(j) * later * p_j;
+    error.variance += weight(j) * weight(j) * p_j + cross + cross.transpose();
+    error.position_covariance += weight(j) * p_j * carried.transpose();
+  }
+  // V a covariance: the correlations follow the model only as far as each G does (an update that widened
+  // its prior, as a conflict's spread does, has no such G).
+  if (!Eigen::LDLT<Matrix3d>(error.variance).isPositive()) error.variance = with_eigenvalues_at_least(error.variance, 0.0);
+  return error;
+}
+
 }  // namespace
 
 Vector3d ObjectTrack::last_velocity() const {
@@ -47,40 +80,10 @@ Vector3d ObjectTrack::last_velocity() const {
   return (last.estimate.mean() - before.estimate.mean()) / (last.time - before.time);
 }
 
-Matrix3d ObjectTrack::velocity_variance(bool last_two) const {
-  // v̂ = Σ_i w_i p_i, w_i = (t_i − t̄) / Σ_j (t_j − t̄)², over the positions it reads:
-  // Var(v̂) = Σ_i w_i² P_i + Σ_{i>j} w_i w_j (C_ij + C_ijᵀ), C_ij = G_i ⋯ G_{j+1} P_j.
-  const SlopeWeights weight(history_, last_two);
-  if (!weight.valid()) return Matrix3d::Zero();
-  const std::size_t n = history_.size(), first = weight.first();
-  Matrix3d variance = Matrix3d::Zero();
-  // B_j = Σ_{i>j} w_i G_i ⋯ G_{j+1}, backwards: B_{n−1} = 0, B_j = (w_{j+1} I + B_{j+1}) G_{j+1}; then
-  // Var(v̂) = Σ_j (w_j² P_j + w_j (B_j P_j + (B_j P_j)ᵀ)).
-  Matrix3d later = Matrix3d::Zero();  // B_j
-  for (std::size_t j = n; j-- > first;) {
-    if (j + 1 < n) later = (weight(j + 1) * Matrix3d::Identity() + later) * history_[j + 1].carried;
-    const Matrix3d& p_j = history_[j].estimate.covariance();
-    const Matrix3d cross = weight(j) * later * p_j;
-    variance += weight(j) * weight(j) * p_j + cross + cross.transpose();
-  }
-  // A covariance: the correlations follow the model only as far as each G does (an update that widened
-  // its prior, as a conflict's spread does, has no such G).
-  if (Eigen::LDLT<Matrix3d>(variance).isPositive()) return variance;
-  return with_eigenvalues_at_least(variance, 0.0);
-}
+Matrix3d ObjectTrack::velocity_variance(bool last_two) const { return slope_error(history_, last_two).variance; }
 
 Matrix3d ObjectTrack::velocity_position_covariance(bool last_two) const {
-  // K_n = Cov(v̂, e_n) = Σ_j w_j Cov(e_j, e_n) = Σ_j w_j P_j Π_jᵀ,  Π_j = G_n ⋯ G_{j+1}  (Π_n = I).
-  const SlopeWeights weight(history_, last_two);
-  if (!weight.valid()) return Matrix3d::Zero();
-  const std::size_t n = history_.size(), first = weight.first();
-  Matrix3d covariance = Matrix3d::Zero();
-  Matrix3d carried = Matrix3d::Identity();  // Π_j
-  for (std::size_t j = n; j-- > first;) {
-    if (j + 1 < n) carried = carried * history_[j + 1].carried;
-    covariance += weight(j) * history_[j].estimate.covariance() * carried.transpose();
-  }
-  return covariance;
+  return slope_error(history_, last_two).position_covariance;
 }
 
 Matrix3d ObjectTrack::velocity_error_to(double time, bool last_two) const {
@@ -95,9 +98,9 @@ Matrix3d ObjectTrack::velocity_error_to(double time, bool last_two) const {
   const Vector3d to = carried_as_is ? Vector3d::Constant(tau) : Vector3d(forecast_->slope_response(tau));
   const Vector3d from =
       carried_as_is ? Vector3d::Constant(tau_state) : Vector3d(forecast_->slope_response(tau_state));
-  const Matrix3d variance = velocity_variance(last_two);
-  const Matrix3d cross =
-      (velocity_position_covariance(last_two) + variance * from.asDiagonal()) * state_->carried.transpose();
+  const SlopeError slope = slope_error(history_, last_two);
+  const Matrix3d& variance = slope.variance;
+  const Matrix3d cross = (slope.position_covariance + variance * from.asDiagonal()) * state_->carried.transpose();
   const Matrix3d delta = (to - from).asDiagonal();
   const Matrix3d grown = symmetrised(delta * variance * delta + delta * cross + cross.transpose() * delta);
   return grown_within(state_->estimate.covariance(), grown);
