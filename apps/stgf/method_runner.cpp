@@ -61,6 +61,13 @@ void log_registration_prior_scales(const std::string& method, const LearnedRegis
                  prior.translation_sigma.z() == 0.0 && prior.noise_ratio.z() == 0.0
                      ? std::string()
                      : fmt::format(", vertical offsets κ_v {}", quantiles(vertical)));
+    if (record.common_translation_raised > 0) {
+      spdlog::info(
+          "{}: the offset common to the views, which no disagreement shows, reported at the size the scenes "
+          "before gave it (κ_t {:.2f}, their median) where a scene's own was lower: {} of {} scene(s){}",
+          method, record.common_translation_run_scale.value_or(0.0), record.common_translation_raised,
+          learned.size(), scenes);
+    }
     // Each scene's scales are held near 1 by its prior; many scenes far from 1 in one direction say
     // that the prior itself is off for these sensors.
     const auto direction = [&at](const std::vector<double>& sorted) {

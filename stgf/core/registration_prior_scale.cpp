@@ -345,6 +345,8 @@ RegistrationPriorScales RegistrationPriorScale::posterior_mean() const {
 void LearnedRegistrationScales::add(const LearnedRegistrationScales& later) {
   scales.insert(scales.end(), later.scales.begin(), later.scales.end());
   scenes_without += later.scenes_without;
+  common_translation_raised += later.common_translation_raised;
+  if (later.common_translation_run_scale) common_translation_run_scale = later.common_translation_run_scale;
 }
 
 }  // namespace stgf

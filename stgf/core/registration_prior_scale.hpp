@@ -140,6 +140,10 @@ struct RegistrationPriorScales {
 struct LearnedRegistrationScales {
   std::vector<RegistrationPriorScales> scales;  // of each scene that had enough same-time disagreement
   std::size_t scenes_without = 0;               // scenes that had not: they kept κ = 1
+  // Scenes whose reports carried the run's size of the common translation (common_translation_scale.hpp),
+  // and that size, κ̂_run, for the last block of scenes (none: not used).
+  std::size_t common_translation_raised = 0;
+  std::optional<double> common_translation_run_scale;
 
   void add(const LearnedRegistrationScales& later);
 };

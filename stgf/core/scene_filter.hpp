@@ -232,6 +232,8 @@ class SceneFilter {
   // views' same-time disagreements reached RegistrationPriorScale::kFirstEstimateDimensions.
   RegistrationPriorScales registration_prior_scales() const { return state_.joint.prior_scales(); }
   bool registration_prior_scale_learned() const { return state_.joint.prior_scale_estimated(); }
+  // The views with an offset in the registration (per-object mode).
+  std::size_t registration_views() const { return state_.joint.view_count(); }
   // The scene's evidence on the scales, as a grid (registration_scale_pool.hpp); empty without any.
   std::vector<double> registration_likelihood_grid() const {
     return state_.joint.prior_scale_evidence() > 0.0 ? state_.joint.prior_scale_log_likelihood_grid() : std::vector<double>{};

@@ -6,6 +6,7 @@
 #include <memory>
 #include <stdexcept>
 
+#include "stgf/core/common_translation_scale.hpp"
 #include "stgf/core/scene_epochs.hpp"
 #include "stgf/core/steps.hpp"
 
@@ -51,14 +52,24 @@ struct SceneRun {
 // Rows whose estimate has come, so that a row left without one is caught.
 using Estimated = std::vector<bool>;
 
-// `results`: scratch, reused from call to call.
-void collect(SceneFilter& filter, std::vector<SceneFilter::Result>& results, Estimated& estimated, FilterRun& run,
-             bool keep_predictions) {
+// `results`: scratch, reused from call to call. `reported_addition`: what the estimates' covariances
+// carry beyond the filter's (common_translation_scale.hpp).
+void collect(SceneFilter& filter, std::vector<SceneFilter::Result>& results, Estimated& estimated,
+             FilterRun& run, bool keep_predictions, const Matrix3d& reported_addition) {
   filter.take_results(results);
+  const bool adds = !reported_addition.isZero(0.0);
   for (SceneFilter::Result& result : results) {
-    run.estimates[result.id] = result.estimate;
+    run.estimates[result.id] =
+        adds ? Gaussian3::from_covariance(result.estimate.mean(),
+                                          result.estimate.covariance() + reported_addition)
+             : result.estimate;
     estimated[result.id] = true;
-    if (keep_predictions) run.predictions[result.id] = result.prediction ? std::optional(*result.prediction) : std::nullopt;
+    if (!keep_predictions) continue;
+    run.predictions[result.id] = result.prediction ? std::optional(*result.prediction) : std::nullopt;
+    if (adds && result.prediction) {  // ours-l reports the prediction: the same common translation
+      Gaussian3& prior = run.predictions[result.id]->prior;
+      prior = Gaussian3::from_covariance(prior.mean(), prior.covariance() + reported_addition);
+    }
   }
 }
 
@@ -70,7 +81,27 @@ struct PooledScales {
   SensorMotion sensors = SensorMotion::kFixed;
   std::size_t first_scene = 0;
   std::optional<RegistrationScalePool::Point> applied;  // none: each scene learns its own registration scales
+  // The common translation's size from the run's scenes (common_translation_scale.hpp): where the
+  // scenes' κ̂_t go, κ̂_run for the block (none: nothing added), and the calibration's σ_t.
+  CommonTranslationScale* common_translation = nullptr;
+  std::optional<double> common_run_scale;
+  Vector3d translation_sigma = Vector3d::Zero();
 };
+
+// A scene's κ̂_t relative to the calibration: the run's lowered scale times the scene's own (1 until
+// it has learned one).
+double translation_scale(const SceneFilter& filter, const PooledScales& pooled) {
+  const double applied = pooled.applied ? pooled.applied->scales().translation : 1.0;
+  return filter.registration_prior_scale_learned() ? applied * filter.registration_prior_scales().translation
+                                                   : applied;
+}
+
+// What the scene's reports add to the filter's covariance (zero without κ̂_run).
+Matrix3d reported_addition(const SceneFilter& filter, const PooledScales& pooled) {
+  if (!pooled.common_run_scale) return Matrix3d::Zero();
+  return common_translation_addition(pooled.translation_sigma, *pooled.common_run_scale,
+                                     translation_scale(filter, pooled), filter.registration_views());
+}
 
 void run_block(const MotionPredictor& predictor, const FilterOptions& options, std::span<const Measurement> measurements,
                std::span<const Scene> scenes, bool by_arrival, Estimated& estimated, FilterRun& run,
@@ -94,7 +125,8 @@ void run_block(const MotionPredictor& predictor, const FilterOptions& options, s
         const bool done = scene.filter->advance(scene.next == scene.deliveries.size()
                                                     ? SceneFilter::Advance::kThroughEverything
                                                     : SceneFilter::Advance::kUntilReported);
-        collect(*scene.filter, results, estimated, run, keep_predictions);
+        collect(*scene.filter, results, estimated, run, keep_predictions,
+                reported_addition(*scene.filter, pooled));
         if (!done) {
           waiting.push_back(&scene);
           const auto& request = scene.filter->forecast_request();
@@ -165,6 +197,12 @@ void run_block(const MotionPredictor& predictor, const FilterOptions& options, s
       } else {
         ++record.scenes_without;
       }
+      if (pooled.common_translation != nullptr && (learned || pooled.applied)) {
+        const double scale = translation_scale(*scene.filter, pooled);
+        pooled.common_translation->add(pooled.first_scene + s, scale);
+        if (pooled.common_run_scale && *pooled.common_run_scale > scale) ++record.common_translation_raised;
+      }
+      if (pooled.common_run_scale) record.common_translation_run_scale = *pooled.common_run_scale;
     }
   }
 }
@@ -197,18 +235,24 @@ FilterRun run_spatiotemporal_graph_filter(const MotionPredictor& predictor, cons
   if (!(scene_options.adapt_registration_prior && !scene_options.registration.is_zero() &&
         scene_options.tracks == TrackMode::kPerObject)) {
     pools.registration = {};
+    pools.common_translation = {};
   }
   if (!scene_options.adapt_process_noise) pools.process_noise = nullptr;  // λ = 1
   std::vector<SensorMotion> sensors;
   sensors.reserve(scenes.size());
   for (const Scene& scene : scenes) sensors.push_back(sensor_motion(measurements, scene));
   const bool pooling = pools.registration.fixed != nullptr || pools.registration.moving != nullptr ||
-                       pools.process_noise != nullptr;
+                       pools.common_translation.fixed != nullptr ||
+                       pools.common_translation.moving != nullptr || pools.process_noise != nullptr;
   for (std::size_t first = 0; first < scenes.size();) {
     std::size_t count = std::min(kScenesPerFilterBlock, scenes.size() - first);
     const std::size_t global = first_scene + first;
     const SensorMotion kind = sensors[first];
     PooledScales pooled{pools.registration[kind], pools.process_noise, kind, global, std::nullopt};
+    pooled.common_translation = pools.common_translation[kind];
+    pooled.translation_sigma = scene_options.registration.translation_sigma;
+    if (pooled.common_translation != nullptr)
+      pooled.common_run_scale = pooled.common_translation->run_scale_for(global);
     FilterOptions block_options = scene_options;
     block_options.sensors = kind;  // known from all the scene's rows (a streaming filter learns it as rows come)
     if (pooling) {

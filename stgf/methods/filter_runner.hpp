@@ -25,6 +25,7 @@
 #include <span>
 #include <vector>
 
+#include "stgf/core/common_translation_scale.hpp"
 #include "stgf/core/process_noise_pool.hpp"
 #include "stgf/core/registration_scale_pool.hpp"
 #include "stgf/core/scene_filter.hpp"
@@ -66,6 +67,10 @@ struct ScenePools {
   // in the list (below 1 too, or held at 1 and above: ProcessNoisePool::below_one), learns on from its
   // own innovations, and adds what they said.
   ProcessNoisePool* process_noise = nullptr;
+  // The size of the offset common to a scene's views, from the scenes before it (one for fixed sensors,
+  // one for moving ones: common_translation_scale.hpp): where a scene's own is lower, the covariances it
+  // reports carry the difference. With the registration's scales learned (`adapt_registration_prior`).
+  PerSensorMotion<CommonTranslationScale*> common_translation;
 };
 
 // Throws std::invalid_argument when some rows have an arrival time and others not.

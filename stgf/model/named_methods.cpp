@@ -132,7 +132,8 @@ std::vector<Gaussian3> NamedMethodRun::add(std::span<const Measurement> rows) {
   };
   const ScenePools pools{
       .registration = {.fixed = pool(SensorMotion::kFixed), .moving = pool(SensorMotion::kMoving)},
-      .process_noise = process_noise_scales_ ? &*process_noise_scales_ : nullptr};
+      .process_noise = process_noise_scales_ ? &*process_noise_scales_ : nullptr,
+      .common_translation = {.fixed = &common_translation_.fixed, .moving = &common_translation_.moving}};
   FilterRun run = run_spatiotemporal_graph_filter(*model_, options, rows, /*keep_predictions=*/prediction_only, pools, scenes_);
   scenes_ += run.scenes;
   part.restarted_tracks = run.restarted_tracks;

@@ -4,21 +4,21 @@
 // included: what `stgf run`, `stgf reproduce` and the Python module call.
 
 #include <memory>
+#include <nlohmann/json.hpp>
 #include <optional>
 #include <span>
 #include <string>
 #include <vector>
 
-#include <nlohmann/json.hpp>
-
-#include "stgf/core/records.hpp"
+#include "stgf/core/common_translation_scale.hpp"
 #include "stgf/core/process_noise_pool.hpp"
+#include "stgf/core/records.hpp"
 #include "stgf/core/registration_scale_pool.hpp"
-#include "stgf/core/view_noise_scales.hpp"
 #include "stgf/core/scene_filter.hpp"
 #include "stgf/core/sensor_motion.hpp"
-#include "stgf/model/trained_motion_model.hpp"
+#include "stgf/core/view_noise_scales.hpp"
 #include "stgf/methods/registry.hpp"
+#include "stgf/model/trained_motion_model.hpp"
 
 namespace stgf {
 
@@ -118,6 +118,7 @@ class NamedMethodRun {
   // process_noise_scale_learning_for), and how many scenes came before the next part.
   PerSensorMotion<std::optional<RegistrationScalePool>> registration_scales_;
   std::optional<ProcessNoisePool> process_noise_scales_;
+  PerSensorMotion<CommonTranslationScale> common_translation_;  // common_translation_scale.hpp
   std::size_t scenes_ = 0;
 };
 
