@@ -3,11 +3,24 @@
 
 #include <cmath>
 
+#include <Eigen/Cholesky>
+
+#include "stgf/core/eigenvalue_floor.hpp"
+
 namespace stgf {
 
 void FrameAlignment::follow(const Vector3d& displacement, const Matrix3d& covariance) {
   displacement_ += displacement;
-  covariance_ += covariance;
+  // The path's covariance grows by what the step adds; a prediction's covariance can also take some
+  // away (the slope's terms, object_track.hpp: where the forecast reads the position from several
+  // history positions it can be more certain than the state), which is the state's share, not the
+  // path's. Only the added part is followed, so that C_n − C_1 stays a covariance and every A_k with it
+  // (a measurement's noise plus an A_k that is not one was not a covariance either).
+  if (Eigen::LDLT<Matrix3d>(covariance).isPositive()) {
+    covariance_ += covariance;
+  } else {
+    covariance_ += with_eigenvalues_at_least(covariance, 0.0);
+  }
 }
 
 void FrameAlignment::gather(const Measurement& measurement, double noise_scale) {

@@ -72,6 +72,22 @@ TEST(FrameAlignment, TheAddedCovarianceIsPositiveSemidefiniteWhenThePathBends) {
   EXPECT_LE((aligned.covariances[2] - 0.5 * (first + second)).norm(), 1e-18);
 }
 
+TEST(FrameAlignment, AStepThatTakesVarianceAwayIsFollowedByWhatItAddsOnly) {
+  // A prediction more certain than its state (the slope's terms: −2e-3 on y) adds to the path what it
+  // adds on x and z; with it summed as it is, C_n − C_1 was not a covariance, nor a measurement's noise
+  // plus A_k (the general model on mpl's own clocks with 3× the calibration error stopped on it).
+  FrameAlignment frame;
+  frame.gather(at(0.0, "a", Vector3d::Zero()), 1.0);
+  frame.follow(Vector3d::Zero(), Vector3d(1e-3, -2e-3, 1e-4).asDiagonal());
+  frame.gather(at(0.1, "b", Vector3d::Zero()), 1.0);
+  const Aligned aligned(frame);
+  for (const Matrix3d& covariance : aligned.covariances) {
+    const Eigen::SelfAdjointEigenSolver<Matrix3d> eigen(covariance);
+    EXPECT_GE(eigen.eigenvalues().minCoeff(), 0.0);
+    EXPECT_LE((covariance - Matrix3d(Vector3d(0.5e-3, 0.0, 0.5e-4).asDiagonal())).norm(), 1e-18);
+  }
+}
+
 TEST(FrameAlignment, NothingGatheredGivesNothing) {
   FrameAlignment frame;
   frame.follow(Vector3d(1, 2, 3), Matrix3d::Identity());
