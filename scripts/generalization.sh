@@ -188,6 +188,7 @@ for benchmark in mpl cad; do
 done
 de_nees_restarts() {  # method, model, folder -> "DE / NEES | restarts"
   local log
+  rm -f "$out/long.csv" "$out/long.json"  # as de_nees: a failed run's cell stays empty
   log=$(build/stgf run --method "$1" --model "$2" --measurements "$3/measurements.csv" --out "$out/long.csv" 2>&1 >/dev/null)
   build/stgf eval --truth "$3/truth.csv" --measurements "$3/measurements.csv" --from-step 2 --estimates "$out/long.csv" \
     --json "$out/long.json" >/dev/null
@@ -239,6 +240,8 @@ long_case "ETH/UCY eth (2.5 Hz)" "$out/ethucy/test" cad
 
 # The general model shipped with stgf (what `ours` runs without --model) on the same proxies.
 de_nees() {  # method, folder, model or "", where scoring starts (--from-step 2 or --from-time T) -> "DE / NEES"
+  # A run that fails leaves no estimates to score (not the last case's): its cell stays empty.
+  rm -f "$out/general.csv" "$out/general.json"
   build/stgf run --method "$1" ${3:+--model "$3"} --measurements "$2/measurements.csv" --out "$out/general.csv" 2>/dev/null
   build/stgf eval --truth "$2/truth.csv" --measurements "$2/measurements.csv" "${@:4}" --estimates "$out/general.csv" \
     --json "$out/general.json" >/dev/null
