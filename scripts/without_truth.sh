@@ -87,8 +87,8 @@ cat >> "$doc" <<'NOTES'
 ## Reading the numbers
 
 - **Within 10 % of the truth-trained model on both** (issue 11's target): on mpl `ours (no truth)`
-  is 1.6 % less accurate (0.0373 against 0.0367 m) with NEES 2.92; on cad 3.8 % less accurate
-  (0.3353 against 0.3229 m) with NEES 2.74 (both trained with `--rotate`, stgf train's default since
+  is 2.5 % less accurate (0.0371 against 0.0362 m) with NEES 3.05; on cad 3.8 % less accurate
+  (0.3361 against 0.3239 m) with NEES 2.72 (both trained with `--rotate`, stgf train's default since
   2026-12-02: 2.6 % and 3.4 % before; until the vehicles learned their offsets' along- and
   across-ray sizes apart, design §1.7, the truth-trained model was at 0.3396 and the other 0.8 %
   ahead of it).
@@ -99,21 +99,21 @@ cat >> "$doc" <<'NOTES'
   range scale of 0.087 against 0.32 and 0.0087. Differences of views cannot tell an offset along the
   ray in units of the noise from one in proportion to range (both grow with distance along the same
   ray), and the disagreements' maximum sits far along that ridge; run with it, the truth-trained
-  model is 0.0379 m (NEES 3.18), and the model trained without truth with the truth's prior 0.0361:
+  model is 0.0374 m (NEES 3.22), and the model trained without truth with the truth's prior 0.0358:
   here too the prior, not Φ, makes the difference. (With one α, as until 2026-11-28, the two fits
   agreed: σ (0.039, 0.025, 0) against (0.034, 0.021, 0) m, α 0.49 both.) On cad the translation σ agree (0.34 against 0.32 m) but α is 0.01 against 1.10. cad's
   offsets are GPS pose errors: a position error, and a heading error that moves a measurement by
   its range times the angle, across the line of sight. stgf's offset model (a translation, and an
   offset in units of the view's own noise, design §1.7) describes the heading part only roughly,
   and the two fits settle that approximation differently. That is where cad's difference comes
-  from: the truth-trained model with the prior from the disagreements gives 0.3344 m with NEES 3.04,
-  and the model trained without truth, run with the truth's prior, 0.3239 m: Φ learnt from
+  from: the truth-trained model with the prior from the disagreements gives 0.3354 m with NEES 3.08,
+  and the model trained without truth, run with the truth's prior, 0.3247 m: Φ learnt from
   measurements predicts as well as Φ learnt from the truth, and the prior's α is what differs (with
   the run's evidence the along- and across-ray offsets are scaled apart, which α = 1.10 leaves room
   for and α = 0.01 does not).
 - **Q**: calibrated inside the filter against the fused measurements, with their covariance taken
   out, the predictions' NEES on the validation split ends at 2.53 (mpl) and 2.30 (cad), and the test
-  NEES of `ours (no truth)` is 2.92 and 2.74.
+  NEES of `ours (no truth)` is 3.05 and 2.72.
 - The benchmarks' measurements are simulated with exactly the noise their R states, so the fused
   measurement is an honest target here; with sensors whose R understates their noise, Q and the
   prior come out too small (design §1.14).
