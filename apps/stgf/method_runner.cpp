@@ -64,9 +64,10 @@ void log_registration_prior_scales(const std::string& method, const LearnedRegis
     if (record.common_translation_raised > 0) {
       spdlog::info(
           "{}: the offset common to the views, which no disagreement shows, reported at the size the scenes "
-          "before gave it (κ_t {:.2f}, their median) where a scene's own was lower: {} of {} scene(s){}",
+          "before gave it (κ_t {:.2f}, their median) wherever a scene's own was lower (before it had learned "
+          "one, or after): {} of {} scene(s){}",
           method, record.common_translation_run_scale.value_or(0.0), record.common_translation_raised,
-          learned.size(), scenes);
+          learned.size() + without, scenes);
     }
     // Each scene's scales are held near 1 by its prior; many scenes far from 1 in one direction say
     // that the prior itself is off for these sensors.

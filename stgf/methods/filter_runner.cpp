@@ -47,14 +47,15 @@ struct SceneRun {
   std::unique_ptr<SceneFilter> filter;
   std::vector<std::vector<std::size_t>> deliveries;
   std::size_t next = 0;
+  bool raised = false;  // some report carried the run's size of the common translation
 };
 
 // Rows whose estimate has come, so that a row left without one is caught.
 using Estimated = std::vector<bool>;
 
 // `results`: scratch, reused from call to call. `reported_addition`: what the estimates' covariances
-// carry beyond the filter's (common_translation_scale.hpp).
-void collect(SceneFilter& filter, std::vector<SceneFilter::Result>& results, Estimated& estimated,
+// carry beyond the filter's (common_translation_scale.hpp). Whether some result carried it.
+bool collect(SceneFilter& filter, std::vector<SceneFilter::Result>& results, Estimated& estimated,
              FilterRun& run, bool keep_predictions, const Matrix3d& reported_addition) {
   filter.take_results(results);
   const bool adds = !reported_addition.isZero(0.0);
@@ -71,6 +72,7 @@ void collect(SceneFilter& filter, std::vector<SceneFilter::Result>& results, Est
       prior = Gaussian3::from_covariance(prior.mean(), prior.covariance() + reported_addition);
     }
   }
+  return adds && !results.empty();
 }
 
 // What the pools gave the block (its scenes' sensors all fixed or all moving), and where its first
@@ -125,8 +127,10 @@ void run_block(const MotionPredictor& predictor, const FilterOptions& options, s
         const bool done = scene.filter->advance(scene.next == scene.deliveries.size()
                                                     ? SceneFilter::Advance::kThroughEverything
                                                     : SceneFilter::Advance::kUntilReported);
-        collect(*scene.filter, results, estimated, run, keep_predictions,
-                reported_addition(*scene.filter, pooled));
+        if (collect(*scene.filter, results, estimated, run, keep_predictions,
+                    reported_addition(*scene.filter, pooled))) {
+          scene.raised = true;
+        }
         if (!done) {
           waiting.push_back(&scene);
           const auto& request = scene.filter->forecast_request();
@@ -200,8 +204,8 @@ void run_block(const MotionPredictor& predictor, const FilterOptions& options, s
       if (pooled.common_translation != nullptr && (learned || pooled.applied)) {
         const double scale = translation_scale(*scene.filter, pooled);
         pooled.common_translation->add(pooled.first_scene + s, scale);
-        if (pooled.common_run_scale && *pooled.common_run_scale > scale) ++record.common_translation_raised;
       }
+      if (scene.raised) ++record.common_translation_raised;
       if (pooled.common_run_scale) record.common_translation_run_scale = *pooled.common_run_scale;
     }
   }
@@ -248,9 +252,14 @@ FilterRun run_spatiotemporal_graph_filter(const MotionPredictor& predictor, cons
     std::size_t count = std::min(kScenesPerFilterBlock, scenes.size() - first);
     const std::size_t global = first_scene + first;
     const SensorMotion kind = sensors[first];
-    PooledScales pooled{pools.registration[kind], pools.process_noise, kind, global, std::nullopt};
-    pooled.common_translation = pools.common_translation[kind];
-    pooled.translation_sigma = scene_options.registration.translation_sigma;
+    PooledScales pooled{.registration = pools.registration[kind],
+                        .process_noise = pools.process_noise,
+                        .sensors = kind,
+                        .first_scene = global,
+                        .applied = std::nullopt,
+                        .common_translation = pools.common_translation[kind],
+                        .common_run_scale = std::nullopt,
+                        .translation_sigma = scene_options.registration.translation_sigma};
     if (pooled.common_translation != nullptr)
       pooled.common_run_scale = pooled.common_translation->run_scale_for(global);
     FilterOptions block_options = scene_options;
