@@ -19,6 +19,15 @@ inline Matrix3d with_eigenvalues_at_least(const Matrix3d& matrix, double floor) 
   return eigen.eigenvectors() * floored.asDiagonal() * eigen.eigenvectors().transpose();
 }
 
+// `matrix` where it is a covariance (positive semidefinite), bit for bit; else the nearest one, its
+// eigenvalues raised to 0: for a sum of terms that should make a covariance but, where the model holds
+// only approximately, may not (the history's velocity error, object_track.hpp; what a step adds to a
+// frame's path, frame_alignment.hpp).
+inline Matrix3d nearest_covariance(const Matrix3d& matrix) {
+  if (Eigen::LDLT<Matrix3d>(matrix).isPositive()) return matrix;
+  return with_eigenvalues_at_least(matrix, 0.0);
+}
+
 // `change`, or, where it would take more than half of `covariance`'s least variance away, the change
 // that leaves covariance + change with its eigenvalues raised to that half: a prediction that is more
 // certain than the state it came from (object_track.hpp: a forecast that brings a height back toward

@@ -3,8 +3,6 @@
 
 #include <cmath>
 
-#include <Eigen/Cholesky>
-
 #include "stgf/core/eigenvalue_floor.hpp"
 
 namespace stgf {
@@ -16,11 +14,7 @@ void FrameAlignment::follow(const Vector3d& displacement, const Matrix3d& covari
   // history positions it can be more certain than the state), which is the state's share, not the
   // path's. Only the added part is followed, so that C_n − C_1 stays a covariance and every A_k with it
   // (a measurement's noise plus an A_k that is not one was not a covariance either).
-  if (Eigen::LDLT<Matrix3d>(covariance).isPositive()) {
-    covariance_ += covariance;
-  } else {
-    covariance_ += with_eigenvalues_at_least(covariance, 0.0);
-  }
+  covariance_ += nearest_covariance(covariance);
 }
 
 void FrameAlignment::gather(const Measurement& measurement, double noise_scale) {

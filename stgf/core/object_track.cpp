@@ -66,7 +66,7 @@ SlopeError slope_error(const std::deque<TrackPoint>& history, bool last_two) {
   }
   // V a covariance: the correlations follow the model only as far as each G does (an update that widened
   // its prior, as a conflict's spread does, has no such G).
-  if (!Eigen::LDLT<Matrix3d>(error.variance).isPositive()) error.variance = with_eigenvalues_at_least(error.variance, 0.0);
+  error.variance = nearest_covariance(error.variance);
   return error;
 }
 
