@@ -49,18 +49,20 @@ void log_registration_prior_scales(const std::string& method, const LearnedRegis
     const auto quantiles = [&at](const std::vector<double>& sorted) {
       return fmt::format("median {:.2f} (10-90 %: {:.2f}-{:.2f})", at(sorted, 0.5), at(sorted, 0.1), at(sorted, 0.9));
     };
-    spdlog::info("{}: registration prior scaled {} from the views' disagreements over {} scene(s){}: translation "
-                 "κ_t {}, offset in units of the noise κ_n {} (along the rays κ_a {}, across them κ_c {}){}; the "
-                 "offsets' σ is √κ times the model's calibration",
-                 method,
-                 learning == RegistrationScaleLearning::kAcrossScenes ? "across scenes"
-                 : learning == RegistrationScaleLearning::kPerScene
-                     ? "per scene"
-                     : "per scene (each from the run's scales where these are below the calibration's)",
-                 learned.size(), scenes, quantiles(translation), quantiles(noise_ratio), quantiles(along), quantiles(across),
-                 prior.translation_sigma.z() == 0.0 && prior.noise_ratio.z() == 0.0
-                     ? std::string()
-                     : fmt::format(", vertical offsets κ_v {}", quantiles(vertical)));
+    spdlog::info(
+        "{}: registration prior scaled {} from the views' disagreements over {} scene(s){}: translation "
+        "κ_t {}, offset in units of the noise κ_n {} (along the rays κ_a {}, across them κ_c {}){}; the "
+        "offsets' σ is √κ times the model's calibration",
+        method,
+        learning == RegistrationScaleLearning::kAcrossScenes ? "across scenes"
+        : learning == RegistrationScaleLearning::kPerScene
+            ? "per scene"
+            : "per scene (each from the run's scales, the translations' only where below the calibration's)",
+        learned.size(), scenes, quantiles(translation), quantiles(noise_ratio), quantiles(along),
+        quantiles(across),
+        prior.translation_sigma.z() == 0.0 && prior.noise_ratio.z() == 0.0
+            ? std::string()
+            : fmt::format(", vertical offsets κ_v {}", quantiles(vertical)));
     if (record.common_translation_raised > 0) {
       spdlog::info(
           "{}: the offset common to the views, which no disagreement shows, reported at the size the scenes "
@@ -99,20 +101,21 @@ void log_registration_prior_scales(const std::string& method, const LearnedRegis
         suggestion += fmt::format("{}registration_range_scale_sigma {} {:.3g}", suggestion.empty() ? "" : ", ", bound(n),
                                   prior.range_scale_sigma * kn);
       }
-      spdlog::info("{}: these views' offsets do not fit the registration prior in use: {} If you know your "
-                   "sensors' registration error, set it under `ours:` in --config; these scenes suggest {}",
-                   method,
-                   learning == RegistrationScaleLearning::kAcrossScenes
-                       ? "each scene starts from what the scenes before it showed and learns on from its own; the "
-                         "first ones, with few before them, stay nearer the prior's."
-                   : learning == RegistrationScaleLearning::kPerScene
-                       ? "each scene learns its own scale, but only within a few times of the prior's, and a short "
-                         "scene less (`registration_prior_scale: shrink-across-scenes` or `across-scenes` pools the "
-                         "scenes)."
-                       : "each scene learns its own scale within a few times of where it starts, and a short scene "
-                         "less; the run's scenes together lower that start where they show smaller offsets than the "
-                         "calibration, never raise it (`registration_prior_scale: across-scenes` would).",
-                   suggestion);
+      spdlog::info(
+          "{}: these views' offsets do not fit the registration prior in use: {} If you know your "
+          "sensors' registration error, set it under `ours:` in --config; these scenes suggest {}",
+          method,
+          learning == RegistrationScaleLearning::kAcrossScenes
+              ? "each scene starts from what the scenes before it showed and learns on from its own; the "
+                "first ones, with few before them, stay nearer the prior's."
+          : learning == RegistrationScaleLearning::kPerScene
+              ? "each scene learns its own scale, but only within a few times of the prior's, and a short "
+                "scene less (`registration_prior_scale: shrink-across-scenes` or `across-scenes` pools the "
+                "scenes)."
+              : "each scene learns its own scale within a few times of where it starts, and a short scene "
+                "less; the run's scenes together set that start, the translations' only where lower than the "
+                "calibration's (`registration_prior_scale: across-scenes` raises them too).",
+          suggestion);
     }
   }
   if (without > 0) {

@@ -8,7 +8,7 @@
 namespace stgf {
 namespace {
 
-constexpr double kLowestLog2 = -6.0;
+constexpr double kLowestLog2 = -10.0;
 constexpr double kLog2Step = 0.5;
 constexpr double kPriorSigma = 3.0;  // of ln λ
 static_assert(kLowestLog2 + kLog2Step * ProcessNoiseScale::kUnitPoint == 0.0);

@@ -10,7 +10,7 @@
 // §1.2). Each world axis has its own λ (a model trained on people walking on a
 // floor has almost no vertical Q, and data with vertical noise or motion need a larger one there
 // only), estimated from that axis of the innovations seen so far, by its posterior on a fixed grid of
-// log₂ λ ∈ [−6, 20] in steps of 1/2 under the wide prior ln λ ~ N(0, 3²) truncated to λ ≥ 1 (on the
+// log₂ λ ∈ [−10, 20] in steps of 1/2 under the wide prior ln λ ~ N(0, 3²) truncated to λ ≥ 1 (on the
 // validation splits of mpl, cad and ethucy, σ = 2 and 3 both beat 1 in DE and NEES, 3 slightly):
 //     log p(λ_a | ν₁..ν_k) = const − (ln λ_a)² / 18 + Σ_j w_j log N(ν_j,a; 0, A_j,aa + λ_a Q_j,aa);
 // λ̂_a is the grid point of highest posterior. Within a scene Q only ever grows: it was calibrated on
@@ -22,9 +22,13 @@
 //
 // Learned across scenes (process_noise_pool.hpp): a scene may start from the log likelihoods that
 // other scenes' innovations gave each grid point, added to the prior; what its own innovations add
-// is evidence_since(the scale it started as). Started so, λ may fall below 1 (to 2⁻⁶): the run's
+// is evidence_since(the scale it started as). Started so, λ may fall below 1 (to 2⁻¹⁰): the run's
 // scenes together are evidence that Q is too large where a scene alone is not — a model trained on
 // vehicles and pedestrians has one Q for both, 300 times too large for the pedestrians (design §1.2).
+// The grid reaches 2⁻¹⁰: with 2⁻⁶ its end (before 2026-12-02), the model trained without mpl had its
+// horizontal λ there on mpl val, with estimates too cautious for it (NEES 2.42; 2.52 with the end
+// lowered); below 2⁻¹⁰ Q is too small against the filter's own uncertainty to move an estimate's digits
+// (2⁻¹⁶ gave the same DE and NEES to the digits docs give).
 // Or it may be held at 1 and above (`grow-across-scenes`, a model of one benchmark): its Q was
 // calibrated on data of its kind, which the run's scenes do not outweigh, but a scene too short to
 // learn that Q is too small from its own innovations (ETH/UCY's scenes of 12 steps with mpl's model,
@@ -39,10 +43,10 @@ namespace stgf {
 
 class ProcessNoiseScale {
  public:
-  static constexpr int kGridPoints = 53;
-  static constexpr int kUnitPoint = 12;  // λ = 1
+  static constexpr int kGridPoints = 61;
+  static constexpr int kUnitPoint = 20;  // λ = 1
 
-  // log p(innovations | λ_a) per axis a and grid point (log₂ λ = −6, −5.5, …, 20), up to a constant.
+  // log p(innovations | λ_a) per axis a and grid point (log₂ λ = −10, −9.5, …, 20), up to a constant.
   using Grid = std::array<std::array<double, kGridPoints>, 3>;
 
   // The prior alone, λ ≥ 1: the innovations are weighed on the grid points λ ≥ 1 only (the rest are
@@ -72,7 +76,7 @@ class ProcessNoiseScale {
   void choose_scales();  // λ̂ per axis: its grid point of highest posterior
 
   Grid log_posterior_{};
-  int lowest_point_ = kUnitPoint;  // the lowest λ̂ may go: 1, or 2⁻⁶ when started from other evidence
+  int lowest_point_ = kUnitPoint;  // the lowest λ̂ may go: 1, or 2⁻¹⁰ when started from other evidence
   int first_point_ = kUnitPoint;   // the first grid point the innovations are weighed on
   Vector3d scales_ = Vector3d::Ones();
   std::size_t innovations_ = 0;

@@ -160,7 +160,7 @@ std::vector<double> RegistrationPriorScale::log_likelihood_grid() const {
   const ScaledEvidence evidence = scaled_evidence();
   std::vector<double> grid;
   grid.reserve(kPooledGridSize);
-  for (int ratio = -8; ratio <= 8; ++ratio) {
+  for (int ratio = -(kPooledRatios - 1) / 2; ratio <= (kPooledRatios - 1) / 2; ++ratio) {
     const std::array<double, kGridPoints> values = log_likelihood(evidence, static_cast<double>(ratio));
     grid.insert(grid.end(), values.begin(), values.end());
   }
@@ -230,7 +230,8 @@ void RegistrationPriorScale::set_two_scales_probability(double probability) {
 
 void RegistrationPriorScale::start_from(std::shared_ptr<const std::vector<double>> pooled) {
   if (pooled == nullptr || pooled->size() != static_cast<std::size_t>(kPooledGridSize)) {
-    throw std::invalid_argument("RegistrationPriorScale::start_from: a grid of 17 × 81 and 3 × 81 log likelihoods");
+    throw std::invalid_argument(
+        "RegistrationPriorScale::start_from: a grid of 25 × 81 and 3 × 81 log likelihoods");
   }
   pooled_ = std::move(pooled);
   const RegistrationPriorScales joint = posterior_mean();
@@ -302,7 +303,7 @@ RegistrationPriorScales RegistrationPriorScale::posterior_mean() const {
   const auto translations = std::count(evidence.translation.begin(), evidence.translation.end(), true);
   const bool both =
       pooled_ != nullptr || (translations > 0 && translations < static_cast<std::ptrdiff_t>(evidence.translation.size()));
-  // The pooled grid's row of log₂ ρ (its rows: log₂ ρ = −8, −7, …, 8).
+  // The pooled grid's row of log₂ ρ (its rows: log₂ ρ = −12, −11, …, 12).
   const auto pooled = [this](double log2_ratio, std::size_t k) {
     if (pooled_ == nullptr) return 0.0;
     const auto row = static_cast<std::size_t>(std::lround(log2_ratio) + (kPooledRatios - 1) / 2);

@@ -160,7 +160,7 @@ class RegistrationPriorScale {
   static constexpr int kRatioPoints = 5;  // log₂ ρ = −8, −4, 0, 4, 8
   static constexpr double kRatioStep = 4.0;
   static constexpr int kEqualRatio = 2;  // ρ = 1
-  static constexpr int kPooledRatios = 17;  // log_likelihood_grid's rows: log₂ ρ = −8, −7, …, 8
+  static constexpr int kPooledRatios = 25;  // log_likelihood_grid's rows: log₂ ρ = −12, −11, …, 12
   // log_likelihood_grid's size: those rows of κ_t, then a row for each of kAxisGroups on the same grid.
   static constexpr int kPooledGridSize = (kPooledRatios + 3) * kGridPoints;
 
@@ -195,7 +195,7 @@ class RegistrationPriorScale {
   void set_two_scales_probability(double probability);
 
   // Starts from what other scenes' disagreements said (registration_scale_pool.hpp): their summed log
-  // likelihoods on log_likelihood_grid's grid (17 × 81 and 3 × 81, relative to this scene's prior), added to
+  // likelihoods on log_likelihood_grid's grid (25 × 81 and 3 × 81, relative to this scene's prior), added to
   // the posterior of this estimate and every later one. The scales are that posterior's mean at once.
   void start_from(std::shared_ptr<const std::vector<double>> pooled);
 
@@ -210,7 +210,7 @@ class RegistrationPriorScale {
   // The log marginal likelihood (up to a constant) of κ_t = 2^(grid index / 4 − 10) and κ_n = ρ κ_t
   // for the evidence so far.
   std::vector<double> log_likelihood(double log2_ratio = 0.0) const;
-  // log_likelihood for log2 ρ = −8, −7, …, 8 in turn (17 × 81, ratio-major), then that of each of
+  // log_likelihood for log2 ρ = −12, −11, …, 12 in turn (25 × 81, ratio-major), then that of each of
   // kAxisGroups alone (81 each, the others at their estimates; zeros where the scene has none of its
   // coordinates): the scene's part of the scales learned across scenes (registration_scale_pool.hpp).
   std::vector<double> log_likelihood_grid() const;

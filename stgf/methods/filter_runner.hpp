@@ -61,7 +61,8 @@ struct FilterRun {
 struct ScenePools {
   // The registration prior's scales (registration_scale_pool.hpp), one pool for the scenes of fixed
   // sensors and one for those whose sensors move (sensor_motion.hpp): each scene starts from its
-  // pool's evidence for its place in the list (or, lowered only, from its estimate) and adds its own.
+  // pool's evidence for its place in the list (or, the translations lowered only, from its estimate) and adds
+  // its own.
   PerSensorMotion<RegistrationScalePool*> registration;
   // Q's scales (process_noise_pool.hpp): each scene starts them from the pool's evidence for its place
   // in the list (below 1 too, or held at 1 and above: ProcessNoisePool::below_one), learns on from its

@@ -103,7 +103,7 @@ NamedMethodRun::NamedMethodRun(const std::string& method, const MethodConfig& co
       if (learning != RegistrationScaleLearning::kPerScene) {
         registration_scales_[sensors].emplace(learning == RegistrationScaleLearning::kAcrossScenes
                                                   ? RegistrationScalePool::Use::kEvidence
-                                                  : RegistrationScalePool::Use::kLowerOnly);
+                                                  : RegistrationScalePool::Use::kTranslationLoweredOnly);
       }
     }
     const ProcessNoiseScaleLearning learning = process_noise_scale_learning_for(config_.ours, model_->metadata());

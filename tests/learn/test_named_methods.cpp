@@ -208,7 +208,7 @@ std::vector<Measurement> offset_scenes(bool moving) {
 // The scenes of fixed and of moving sensors learn the registration's scales in separate pools, each
 // as it is used: offsets five times the prior's raise the moving sensors' scales for every scene after
 // the first 16 (held at what the scenes before show), while fixed sensors' scenes, whose pool may only
-// lower their start, learn theirs within a few times of the prior's.
+// lower their translations' start, learn those within a few times of the prior's.
 TEST(NamedMethodRun, PoolsTheRegistrationScalesOfMovingSensorsApart) {
   const MethodConfig config =
       parse_method_config("c.yaml", "ours:\n  registration_translation_sigma_m: 0.1\n  registration_noise_ratio: 0.5\n");
@@ -219,7 +219,8 @@ TEST(NamedMethodRun, PoolsTheRegistrationScalesOfMovingSensorsApart) {
   };
   PerSensorMotion<double> translation;
   for (const bool moving : {false, true}) {
-    RegistrationScalePool lowered(RegistrationScalePool::Use::kLowerOnly), held(RegistrationScalePool::Use::kEvidence);
+    RegistrationScalePool lowered(RegistrationScalePool::Use::kTranslationLoweredOnly),
+        held(RegistrationScalePool::Use::kEvidence);
     const std::vector<Measurement> rows = offset_scenes(moving);
     const FilterRun run = run_spatiotemporal_graph_filter(model(), options, rows, false,
                                                           ScenePools{.registration = {.fixed = &lowered, .moving = &held}});
