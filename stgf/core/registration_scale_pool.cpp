@@ -19,6 +19,19 @@ RegistrationPriorScales RegistrationScalePool::Point::scales() const {
   return scales;
 }
 
+RegistrationScalePool::Point RegistrationScalePool::Point::lowered_to_unit() const {
+  const int lowered_scale = std::min(scale, kUnitScale);
+  // log2 κ_n = (scale / 4 − 10) + (ratio − 12); the ratio that takes it to min(κ_n, 1) from κ_t'.
+  const double log2_noise_ratio = std::min(0.0, 0.25 * scale - 10.0 + (ratio - kUnitRatio));
+  const double log2_ratio = log2_noise_ratio - (0.25 * lowered_scale - 10.0);
+  // Rounded down: at most 1 (κ_t' = 1 at a scale not a multiple of 4 leaves a fraction).
+  const int lowered_ratio =
+      std::clamp(static_cast<int>(std::floor(log2_ratio + 1e-9)) + kUnitRatio, 0, kRatioIndices - 1);
+  Point lowered{lowered_scale, lowered_ratio, axes};
+  for (int& axis : lowered.axes) axis = std::min(axis, kUnitScale);
+  return lowered;
+}
+
 RegistrationScalePool::Point RegistrationScalePool::Point::translation_lowered_to_unit() const {
   const int lowered_scale = std::min(scale, kUnitScale);
   // κ_n = κ_t ρ kept: ρ' = ρ κ_t / κ_t', in whole octaves rounded down (a κ_t above 1 by a fraction of
@@ -97,6 +110,7 @@ std::optional<RegistrationScalePool::Point> RegistrationScalePool::estimate_for(
     }
   }
   if (!(highest > lowest)) best->axes[kVerticalAxis] = kUnitScale;
+  if (use_ == Use::kLowerOnly) best = best->lowered_to_unit();
   if (use_ == Use::kTranslationLoweredOnly) best = best->translation_lowered_to_unit();
   // δ along and across the rays follow κ_n here (RegistrationPriorScale: they are learned apart only from
   // other scenes' evidence, Use::kEvidence): κ_n's index on κ_t's grid, k + 4 (r − 12), at least 0.

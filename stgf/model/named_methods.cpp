@@ -91,6 +91,20 @@ std::vector<Gaussian3> run_named_method(const std::string& method, const MethodC
   return estimates;
 }
 
+namespace {
+
+// How a pool that may only lower the translations' scale treats the others (registration_scale_pool.hpp):
+// either way, unless the prior in use has a range scale, whose ridge with δ along the rays the summed
+// disagreements ride (then every scale is lowered only).
+RegistrationScalePool::Use lowered_pool_use(const OursSettings& settings, const nlohmann::json& metadata,
+                                            const std::string& model_path) {
+  return resolve_registration_prior(settings, metadata, model_path).range_scale_sigma > 0.0
+             ? RegistrationScalePool::Use::kLowerOnly
+             : RegistrationScalePool::Use::kTranslationLoweredOnly;
+}
+
+}  // namespace
+
 NamedMethodRun::NamedMethodRun(const std::string& method, const MethodConfig& config, const TrainedMotionModel* model,
                                const std::string& model_path)
     : method_(method), config_(config), model_(model), model_path_(model_path) {
@@ -101,9 +115,10 @@ NamedMethodRun::NamedMethodRun(const std::string& method, const MethodConfig& co
       const RegistrationScaleLearning learning = registration_scale_learning_for(config_.ours, model_->metadata(), sensors);
       report_.registration_scale_learning[sensors] = learning;
       if (learning != RegistrationScaleLearning::kPerScene) {
-        registration_scales_[sensors].emplace(learning == RegistrationScaleLearning::kAcrossScenes
-                                                  ? RegistrationScalePool::Use::kEvidence
-                                                  : RegistrationScalePool::Use::kTranslationLoweredOnly);
+        registration_scales_[sensors].emplace(
+            learning == RegistrationScaleLearning::kAcrossScenes
+                ? RegistrationScalePool::Use::kEvidence
+                : lowered_pool_use(config_.ours, model_->metadata(), model_path_));
       }
     }
     const ProcessNoiseScaleLearning learning = process_noise_scale_learning_for(config_.ours, model_->metadata());

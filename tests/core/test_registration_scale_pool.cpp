@@ -60,6 +60,32 @@ TEST(RegistrationScalePool, EstimatesFromTheEpochsBeforeAScenesOwn) {
   EXPECT_EQ(fewer.estimate_for(33)->scale, 60);
 }
 
+// Used to lower only (`shrink-across-scenes` with a prior that has a range scale, whose ridge with δ
+// along the rays the summed disagreements ride): a scale whose estimate is above the calibration's
+// (κ = 1) stays at 1, one below it is taken to the estimate.
+TEST(RegistrationScalePool, LowersEveryScaleOnlyWhenSoUsed) {
+  const auto pooled = [](int scale, int ratio, int vertical = 30) {
+    RegistrationScalePool pool(RegistrationScalePool::Use::kLowerOnly);
+    for (std::size_t scene = 0; scene < 16; ++scene)
+      pool.add(scene, peaked_at(scale, ratio, vertical), Point{});
+    return *pool.estimate_for(16);
+  };
+  const auto expect_scales = [](Point point, double translation, double noise_ratio) {
+    EXPECT_NEAR(point.scales().translation, translation, 1e-12 * translation);
+    EXPECT_NEAR(point.scales().noise_ratio, noise_ratio, 1e-12 * noise_ratio);
+  };
+  expect_scales(pooled(60, kUnit), 1.0, 1.0);                              // κ_t = κ_n = 32: both stay at 1
+  expect_scales(pooled(20, kUnit + 4), 1.0 / 32.0, 0.5);                   // both below 1: as estimated
+  expect_scales(pooled(20, kUnit + 8), 1.0 / 32.0, 1.0);                   // κ_n = 8 → 1
+  expect_scales(pooled(60, kUnit - 8), 1.0, 1.0 / 8.0);                    // κ_t = 32 → 1, κ_n = 1/8 kept
+  expect_scales(pooled(22, kUnit + 8), std::exp2(-4.5), std::exp2(-0.5));  // κ_n = 2^3.5 → 1, rounded down
+  expect_scales(pooled(62, kUnit - 8), 1.0, std::exp2(-3.0));  // κ_t = 2^5.5 → 1, κ_n = 2^-2.5 rounded down
+  EXPECT_NEAR(pooled(40, kUnit, 20).scales().vertical, 1.0 / 32.0, 1e-12);
+  EXPECT_NEAR(pooled(40, kUnit, 60).scales().vertical, 1.0, 1e-12);
+  EXPECT_EQ(RegistrationScalePool(RegistrationScalePool::Use::kLowerOnly).use(),
+            RegistrationScalePool::Use::kLowerOnly);
+}
+
 // Used with the translations lowered only (`shrink-across-scenes`, the default for a model of several
 // benchmarks on fixed sensors): κ_t above the calibration's (κ = 1) stays at 1, below it is taken to the
 // estimate; κ_n is the estimate's either way.
