@@ -238,6 +238,55 @@ TEST(NamedMethodRun, PoolsTheRegistrationScalesOfMovingSensorsApart) {
   EXPECT_LT(translation.fixed, 0.5 * translation.moving);
 }
 
+// many_scenes() with every view of every scene off by an offset in units of its rows' noise, δ_u of
+// σ 2.5 per horizontal axis (five times the prior's α below): each row moved by L δ_u, L the lower
+// Cholesky factor of its covariance.
+std::vector<Measurement> noise_offset_scenes() {
+  std::vector<Measurement> rows = many_scenes();
+  std::mt19937_64 random(19);
+  std::normal_distribution<double> offset(0.0, 2.5);
+  std::map<std::pair<std::string, std::string>, Vector3d> offsets;
+  for (Measurement& row : rows) {
+    auto [it, drawn] = offsets.try_emplace({row.scene, row.view}, Vector3d::Zero());
+    if (drawn) it->second = Vector3d(offset(random), offset(random), 0.0);
+    const Matrix3d covariance = row.position.covariance();
+    const Matrix3d factor = covariance.llt().matrixL();
+    row.position = Gaussian3::from_covariance(row.position.mean() + factor * it->second, covariance);
+  }
+  return rows;
+}
+
+// With `shrink-across-scenes` on fixed sensors the run's pool lowers the translations' scale only and
+// sets κ_n either way, unless the prior has a range scale (its ridge with δ along the rays: every scale
+// then lowered only; registration_scale_pool.hpp). Offsets in units of the noise 25 times the prior's
+// variance: taken from the run without a range scale, held near the prior's with one.
+TEST(NamedMethodRun, RaisesTheNoiseScaleFromTheRunOnlyWithoutARangeScale) {
+  const std::vector<Measurement> rows = noise_offset_scenes();
+  const auto median_noise_scale = [&rows](const std::string& range_scale) {
+    MethodRunReport report;
+    run_named_method("ours",
+                     parse_method_config("c.yaml",
+                                         "ours:\n  registration_translation_sigma_m: 0.01\n"
+                                         "  registration_noise_ratio: 0.5\n"
+                                         "  registration_range_scale_sigma: " +
+                                             range_scale +
+                                             "\n"
+                                             "  registration_prior_scale: shrink-across-scenes\n"),
+                     &model(), "model.pt", rows, &report);
+    std::vector<double> kappa;
+    for (const RegistrationPriorScales& scales :
+         report.registration_prior_scales[SensorMotion::kFixed].scales) {
+      kappa.push_back(scales.noise_ratio);
+    }
+    EXPECT_GE(kappa.size(), 300u - 16u) << range_scale;
+    std::sort(kappa.begin(), kappa.end());
+    return kappa.empty() ? 0.0 : kappa[kappa.size() / 2];
+  };
+  const double without = median_noise_scale("0"), with = median_noise_scale("0.01");
+  EXPECT_GT(without, 10.0);        // 21 (25 is right)
+  EXPECT_GT(without, 2.0 * with);  // 7.3
+}
+
 TEST(NamedMethodRun, SttpAndModelFreeMethodsTakeAnyParts) {
   for (const std::string method : {"sttp", "wls", "aom"}) {
     const std::vector<Gaussian3> whole = run_named_method(method, MethodConfig{}, &model(), "model.pt", many_scenes());
