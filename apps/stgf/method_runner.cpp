@@ -29,6 +29,9 @@ void log_registration_prior_scales(const std::string& method, const LearnedRegis
                                    RegistrationScaleLearning learning) {
   const std::vector<RegistrationPriorScales>& learned = record.scales;
   const std::size_t without = record.scenes_without;
+  // Lowered across scenes: the translations' scale only, or every scale (registration_scale_pool.hpp).
+  const bool every_scale_lowered =
+      RegistrationScalePool::lowering_for(prior.range_scale_sigma) == RegistrationScalePool::Use::kLowerOnly;
   if (!learned.empty()) {
     std::vector<double> translation, noise_ratio, along, across, vertical;
     for (const RegistrationPriorScales& scales : learned) {
@@ -55,8 +58,9 @@ void log_registration_prior_scales(const std::string& method, const LearnedRegis
         "offsets' σ is √κ times the model's calibration",
         method,
         learning == RegistrationScaleLearning::kAcrossScenes ? "across scenes"
-        : learning == RegistrationScaleLearning::kPerScene
-            ? "per scene"
+        : learning == RegistrationScaleLearning::kPerScene   ? "per scene"
+        : every_scale_lowered
+            ? "per scene (each from the run's scales where these are below the calibration's)"
             : "per scene (each from the run's scales, the translations' only where below the calibration's)",
         learned.size(), scenes, quantiles(translation), quantiles(noise_ratio), quantiles(along),
         quantiles(across),
@@ -112,6 +116,10 @@ void log_registration_prior_scales(const std::string& method, const LearnedRegis
               ? "each scene learns its own scale, but only within a few times of the prior's, and a short "
                 "scene less (`registration_prior_scale: shrink-across-scenes` or `across-scenes` pools the "
                 "scenes)."
+          : every_scale_lowered
+              ? "each scene learns its own scale within a few times of where it starts, and a short scene "
+                "less; the run's scenes together lower that start where they show smaller offsets than the "
+                "calibration, never raise it (`registration_prior_scale: across-scenes` would)."
               : "each scene learns its own scale within a few times of where it starts, and a short scene "
                 "less; the run's scenes together set that start, the translations' only where lower than the "
                 "calibration's (`registration_prior_scale: across-scenes` raises them too).",

@@ -71,6 +71,11 @@ class RegistrationScalePool {
   enum class Use { kEvidence, kLowerOnly, kTranslationLoweredOnly };
   explicit RegistrationScalePool(Use use = Use::kEvidence) : use_(use) {}
   Use use() const { return use_; }
+  // How a pool that may only lower treats a prior with this range scale σ_ε (above): the translations'
+  // scale lowered only, or, with a range scale, every scale.
+  static Use lowering_for(double range_scale_sigma) {
+    return range_scale_sigma > 0.0 ? Use::kLowerOnly : Use::kTranslationLoweredOnly;
+  }
 
   // The estimate is the summed likelihood's maximum, with no prior: over fewer scenes than this it is
   // too rough to start a scene from (on cad val with a model of pedestrians, scenes held at the
@@ -108,8 +113,8 @@ class RegistrationScalePool {
   // Scenes must come in list order of epochs.
   void add(std::size_t scene_index, std::span<const double> grid, Point applied);
   // The scales for the scene at `scene_index`: the argmax over the scenes of the epochs before its
-  // own (Use::kTranslationLoweredOnly: translation_lowered_to_unit of it); none while they are fewer than
-  // kFewestScenes (counting those with disagreements only).
+  // own (Use::kLowerOnly: lowered_to_unit of it; Use::kTranslationLoweredOnly: translation_lowered_to_unit
+  // of it); none while they are fewer than kFewestScenes (counting those with disagreements only).
   std::optional<Point> estimate_for(std::size_t scene_index) const;
   // Use::kEvidence: the summed log likelihoods of the scenes of the epochs before its own, on a scene's
   // grid (25 × 81, ratio-major, and 3 × 81 of the axis groups), for it to start from

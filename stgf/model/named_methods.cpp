@@ -91,20 +91,6 @@ std::vector<Gaussian3> run_named_method(const std::string& method, const MethodC
   return estimates;
 }
 
-namespace {
-
-// How a pool that may only lower the translations' scale treats the others (registration_scale_pool.hpp):
-// either way, unless the prior in use has a range scale, whose ridge with δ along the rays the summed
-// disagreements ride (then every scale is lowered only).
-RegistrationScalePool::Use lowered_pool_use(const OursSettings& settings, const nlohmann::json& metadata,
-                                            const std::string& model_path) {
-  return resolve_registration_prior(settings, metadata, model_path).range_scale_sigma > 0.0
-             ? RegistrationScalePool::Use::kLowerOnly
-             : RegistrationScalePool::Use::kTranslationLoweredOnly;
-}
-
-}  // namespace
-
 NamedMethodRun::NamedMethodRun(const std::string& method, const MethodConfig& config, const TrainedMotionModel* model,
                                const std::string& model_path)
     : method_(method), config_(config), model_(model), model_path_(model_path) {
@@ -118,7 +104,9 @@ NamedMethodRun::NamedMethodRun(const std::string& method, const MethodConfig& co
         registration_scales_[sensors].emplace(
             learning == RegistrationScaleLearning::kAcrossScenes
                 ? RegistrationScalePool::Use::kEvidence
-                : lowered_pool_use(config_.ours, model_->metadata(), model_path_));
+                : RegistrationScalePool::lowering_for(
+                      resolve_registration_prior(config_.ours, model_->metadata(), model_path_)
+                          .range_scale_sigma));
       }
     }
     const ProcessNoiseScaleLearning learning = process_noise_scale_learning_for(config_.ours, model_->metadata());
