@@ -10,6 +10,7 @@
 #   scripts/fuzz.sh [SECONDS] [TARGET...]      targets: measurements truth estimates config trained_model model
 set -euo pipefail
 cd "$(dirname "$0")/.."
+source scripts/cores.sh
 seconds=${1:-15}
 shift || true
 targets=("$@")
@@ -21,7 +22,7 @@ if [ ! -f build-fuzz/CMakeCache.txt ]; then
 fi
 text_targets=()
 for target in "${targets[@]}"; do [ "$target" != model ] && text_targets+=("$target"); done
-[ ${#text_targets[@]} -gt 0 ] && cmake --build build-fuzz --parallel "$(nproc)" $(printf -- '--target fuzz_%s ' "${text_targets[@]}")
+[ ${#text_targets[@]} -gt 0 ] && cmake --build build-fuzz --parallel "$cores" $(printf -- '--target fuzz_%s ' "${text_targets[@]}")
 
 if [[ " ${targets[*]} " == *" model "* ]]; then
   # A small model file as the seed (a model file is binary: made here, not stored).

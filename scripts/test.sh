@@ -12,9 +12,10 @@
 #     mutation harness).
 set -euo pipefail
 cd "$(dirname "$0")/.."
+source scripts/cores.sh
 scripts/install-deps.sh
 scripts/build.sh
-ctest --test-dir build --output-on-failure --parallel "$(nproc)" "$@"
+ctest --test-dir build --output-on-failure --parallel "$cores" "$@"
 
 echo "== the learned model's tests with OMP_NUM_THREADS=1 OPENBLAS_CORETYPE=Haswell"
 OMP_NUM_THREADS=1 OPENBLAS_CORETYPE=Haswell build/tests/test_learn --gtest_brief=1
@@ -23,7 +24,7 @@ echo "== the core, the methods and a trained model without LibTorch (build-core/
 # Also without the general model (-DSTGF_GENERAL_MODEL=OFF, for builds that must not carry KITTI's terms).
 cmake -S . -B build-core -G Ninja -DCMAKE_BUILD_TYPE=Release -DSTGF_WITH_LIBTORCH=OFF -DSTGF_BUILD_PYTHON=OFF \
   -DSTGF_BUILD_BENCHMARKS=OFF -DSTGF_GENERAL_MODEL=OFF >/dev/null
-cmake --build build-core --parallel "$(nproc)" --target test_core test_methods test_model stgf_cli
+cmake --build build-core --parallel "$cores" --target test_core test_methods test_model stgf_cli
 if ldd build-core/tests/test_core build-core/tests/test_methods build-core/tests/test_model build-core/stgf | grep -q libtorch; then
   echo "build-core links LibTorch" >&2
   exit 1
